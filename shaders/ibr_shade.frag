@@ -1,0 +1,93 @@
+#version 300 es
+// Mesh pass, deferred: for each output pixel, the surface point P is rebuilt from the view's
+// linear depth along the pixel's exact ray, then textured by the selected photographs
+// (DESIGN.md §2 step 5; Brédif 2013 eq. 1-2). The CPU twin is hv::ibr::referenceBlend.
+// Offscreen targets are stored top row first, so gl_FragCoord.xy is the pixel position in the
+// top-left-corner convention of hv/camera/camera.h.
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+precision highp sampler2DArray;
+
+#include "ibr_common.glsl"
+
+uniform highp sampler2DArray u_images;     // premultiplied RGBA8, alpha = mask
+uniform highp sampler2DArray u_depthMaps;  // linear depth in [0, 1] between near and far
+uniform highp sampler2D u_viewDepth;       // the view's geometry pass, same encoding
+uniform highp sampler2D u_idealLookup;     // distorted views: ideal pixel of each output pixel
+uniform bool u_useLookup;
+uniform vec2 u_viewRectMin;
+uniform vec2 u_viewRectInvSize;
+uniform ivec2 u_viewDepthSize;
+uniform float u_viewNear;
+uniform float u_viewFar;
+uniform vec3 u_viewCenter;      // render frame
+uniform mat3 u_viewDirFromPix;  // R^T K^-1: world direction (camera z = 1) of an ideal pixel
+uniform int u_imageCount;
+uniform int u_method;           // 0 blend, 1 nearest
+uniform bool u_occlusion;
+uniform int u_mode;             // 0 colour, 1 contributing-image count (16 bits in r, g)
+uniform vec3 u_background;
+
+out vec4 o_color;
+
+void writeBackground() {
+  o_color = u_mode == 1 ? vec4(0.0) : vec4(u_background, 0.0);
+}
+
+void main() {
+  vec2 pIdeal = gl_FragCoord.xy;
+  if (u_useLookup) {
+    vec4 l = texelFetch(u_idealLookup, ivec2(gl_FragCoord.xy), 0);
+    if (l.z < 0.5) {  // outside the distortion domain
+      writeBackground();
+      return;
+    }
+    pIdeal = l.xy;
+  }
+  vec2 t = (pIdeal - u_viewRectMin) * u_viewRectInvSize;
+  ivec2 dpix = clamp(ivec2(floor(t * vec2(u_viewDepthSize))), ivec2(0), u_viewDepthSize - 1);
+  float d = texelFetch(u_viewDepth, dpix, 0).r;
+  if (d >= 1.0) {
+    writeBackground();
+    return;
+  }
+  float zView = mix(u_viewNear, u_viewFar, d);
+  vec3 P = u_viewCenter + zView * (u_viewDirFromPix * vec3(pIdeal, 1.0));
+
+  vec3 sum = vec3(0.0);
+  float alpha = 0.0;
+  int count = 0;
+  for (int i = 0; i < u_imageCount; ++i) {
+    HvImage im = hv_fetchImage(i);
+    vec2 p, pd;
+    float z;
+    if (!hv_project(im, P, p, pd, z)) continue;
+    if (u_occlusion) {
+      vec2 dt = (p - im.depthMin) * im.depthInvSize;
+      float zMap = mix(im.near, im.far, texture(u_depthMaps, vec3(dt, im.slice)).r);
+      if (z > zMap + im.biasAbs + im.biasRel * z) continue;  // shadowed (Brédif 2013 §2.2)
+    }
+    vec4 texel = textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0);
+    if (texel.a <= 0.0) continue;
+    if (u_method == 1) {  // nearest: images are sorted by distance, the first that passes wins
+      sum = texel.rgb;
+      alpha = texel.a;
+      count = 1;
+      break;
+    }
+    if (im.weight <= 0.0) continue;
+    sum += im.weight * texel.rgb;
+    alpha += im.weight * texel.a;
+    ++count;
+  }
+  if (u_mode == 1) {
+    o_color = vec4(float(count & 255) / 255.0, float(count >> 8) / 255.0, 0.0, 1.0);
+    return;
+  }
+  if (alpha <= 0.0) {
+    writeBackground();
+    return;
+  }
+  o_color = vec4(sum / alpha, 1.0);
+}

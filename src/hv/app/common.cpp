@@ -1,0 +1,81 @@
+#include "hv/app/common.h"
+
+#include "hv/io/cameras_json.h"
+#include "hv/io/scene_loader.h"
+#include "hv/util/log.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace hv::app {
+
+void addViewOptions(CLI::App& cmd, ViewOptions& o) {
+  cmd.add_option("scene", o.scenePath, "scene.json")->required()->check(CLI::ExistingFile);
+  cmd.add_option("--views", o.viewsPath, "cameras to render (cameras.json schema; image optional)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--size", o.size, "output size WxH (intrinsics scaled uniformly; default: each view's own)");
+  cmd.add_option("--k", o.k, "images blended per pixel")->check(CLI::PositiveNumber);
+  cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)");
+  cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated)")->delimiter(',');
+  cmd.add_option("--depth-size", o.depthSize, "depth-map resolution")->check(CLI::Range(16, 16384));
+  cmd.add_option("--background", o.background, "background colour R,G,B (0-255)");
+}
+
+glm::ivec2 parseSize(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0;
+  std::istringstream in(s);
+  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || w <= 0 || h <= 0 || !in.eof())
+    throw std::invalid_argument("--size: expected WxH with positive integers, got '" + s + "'");
+  return {w, h};
+}
+
+glm::dvec3 parseColour(const std::string& s) {
+  std::istringstream in(s);
+  glm::dvec3 c;
+  char comma = 0;
+  if (!(in >> c.r >> comma >> c.g) || comma != ',' || !(in >> comma >> c.b) || comma != ',')
+    throw std::invalid_argument("--background: expected R,G,B in 0-255, got '" + s + "'");
+  for (int i = 0; i < 3; ++i)
+    if (c[i] < 0 || c[i] > 255) throw std::invalid_argument("--background: components must be in 0-255");
+  return c / 255.0;
+}
+
+Camera resizeView(const Camera& view, const std::string& size) {
+  if (size.empty()) return view;
+  const glm::ivec2 wh = parseSize(size);
+  const double s = double(wh.x) / view.width;
+  if (std::abs(view.height * s - wh.y) > 1.0)
+    throw std::invalid_argument("--size " + size + ": view '" + view.id + "' is " + std::to_string(view.width) +
+                                "x" + std::to_string(view.height) + ", a different aspect ratio");
+  return view.scaled(s, wh.x, wh.y);
+}
+
+render::RenderSettings renderSettings(const ViewOptions& o) {
+  render::RenderSettings s;
+  s.blend.k = o.k;
+  s.blend.sigma = o.sigma;
+  s.blend.exclude = o.exclude;
+  s.depthSize = o.depthSize;
+  s.background = parseColour(o.background);
+  return s;
+}
+
+std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag) {
+  auto session = std::make_unique<Session>();
+  session->scene = loadScene(o.scenePath, diag);
+  CameraFileOptions viewOpts;
+  viewOpts.requireImages = false;
+  viewOpts.checkImageFiles = false;
+  session->views = readCameraFile(o.viewsPath, viewOpts, diag);
+  if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
+  session->context = gpu::createHeadlessContext();
+  session->renderer = std::make_unique<render::Renderer>(session->scene, renderSettings(o), diag);
+  return session;
+}
+
+}  // namespace hv::app

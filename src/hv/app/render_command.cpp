@@ -1,0 +1,156 @@
+#include "hv/app/render_command.h"
+
+#include "hv/app/common.h"
+#include "hv/gpu/gl.h"
+#include "hv/image/colormap.h"
+#include "hv/io/scene_loader.h"
+#include "hv/util/log.h"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+namespace hv::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string vec3String(const glm::dvec3& v) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3) << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return s.str();
+}
+
+int runInfo(const std::string& scenePath) {
+  Diagnostics diag;
+  Scene scene;
+  try {
+    scene = loadScene(scenePath, diag);
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  std::cout << "scene      " << scenePath << "\n";
+  std::cout << "crs        " << (scene.crs.empty() ? "(none given)" : scene.crs) << "\n";
+  std::cout << "origin     " << vec3String(scene.origin) << " (render frame = world - origin)\n";
+  std::cout << "up         " << vec3String(scene.up) << "\n";
+  const Aabb b = scene.bounds();
+  if (!b.empty()) std::cout << "extent     " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
+  std::cout << "terrain    " << scene.terrain.positions.size() << " vertices, " << scene.terrain.triangles.size()
+            << " triangles\n";
+  std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
+  std::cout << "photos     " << scene.photos.size() << " (camera spacing " << std::setprecision(4)
+            << scene.cameraSpacing() << ")\n";
+  std::map<std::string, int> sizes;
+  int distorted = 0, masked = 0, dated = 0;
+  for (const auto& p : scene.photos) {
+    ++sizes[std::to_string(p.camera.width) + "x" + std::to_string(p.camera.height)];
+    distorted += p.camera.distortion && !p.camera.distortion->isIdentity();
+    masked += !p.maskPath.empty();
+    dated += !p.date.empty();
+  }
+  for (const auto& [s, n] : sizes) std::cout << "  " << std::setw(5) << n << " x " << s << "\n";
+  std::cout << "  distorted " << distorted << ", masked " << masked << ", dated " << dated << "\n";
+  try {
+    auto ctx = gpu::createHeadlessContext();
+    const auto l = gpu::queryLimits();
+    std::cout << "GL         " << l.vendor << " | " << l.renderer << " | " << l.version << "\n";
+    std::cout << "  MAX_TEXTURE_SIZE " << l.maxTextureSize << ", MAX_ARRAY_TEXTURE_LAYERS " << l.maxArrayTextureLayers
+              << ", MAX_TEXTURE_IMAGE_UNITS " << l.maxTextureImageUnits << "\n";
+    std::cout << "  MAX_UNIFORM_BLOCK_SIZE " << l.maxUniformBlockSize << ", MAX_VARYING_COMPONENTS "
+              << l.maxVaryingComponents << ", MAX_FRAGMENT_UNIFORM_VECTORS " << l.maxFragmentUniformVectors << "\n";
+  } catch (const std::exception& e) {
+    std::cout << "GL         unavailable: " << e.what() << "\n";
+  }
+  if (!diag.ok()) std::cout << diag.errors.size() << " input error(s), listed above\n";
+  return diag.ok() ? 0 : 1;
+}
+
+struct RenderOptions {
+  ViewOptions view;
+  std::string out;
+  bool coverage = false;
+  std::string debug;
+  std::string method = "blend";
+};
+
+int runRender(const RenderOptions& o) {
+  Diagnostics diag;
+  std::unique_ptr<Session> s;
+  try {
+    s = openSession(o.view, diag);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  if (o.method == "nearest") s->renderer->settings().blend.method = ibr::BlendMethod::Nearest;
+  if (o.method == "no-occlusion") s->renderer->settings().blend.occlusion = false;
+  fs::create_directories(o.out);
+  int failed = 0;
+  for (size_t i = 0; i < s->views.size(); ++i) {
+    const Photo& v = s->views[i];
+    try {
+      const Camera cam = resizeView(v.camera, o.view.size);
+      const auto result = s->renderer->render(cam, o.debug == "count");
+      Image8 rgb(cam.width, cam.height, 3);
+      Image8 cov(cam.width, cam.height, 1);
+      for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) {
+          for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = result.rgba.at(x, y, c);
+          cov.at(x, y, 0) = result.rgba.at(x, y, 3) > 0 ? 255 : 0;
+        }
+      const std::string base = (fs::path(o.out) / v.camera.id).string();
+      writePng(base + ".png", rgb);
+      if (o.coverage) writePng(base + ".coverage.png", cov);
+      if (o.debug == "count") {
+        writePng16(base + ".count.png", result.counts);
+        writePng(base + ".count-preview.png", colorMapCounts(result.counts));
+      }
+      std::cout << "[" << (i + 1) << "/" << s->views.size() << "] " << base << ".png  (" << cam.width << "x"
+                << cam.height << ", " << s->renderer->lastPlan().images.size() << " images, " << std::fixed
+                << std::setprecision(0) << s->renderer->stats().lastFrameMs << " ms)\n";
+    } catch (const std::exception& e) {
+      std::cerr << "error: view '" << v.camera.id << "': " << e.what() << "\n";
+      ++failed;
+    }
+  }
+  std::cout << "wrote " << (s->views.size() - size_t(failed)) << " view(s) to " << o.out << "\n";
+  if (failed) return 1;
+  return diag.ok() ? 0 : 1;
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app, int& exitCode) {
+  auto* cmd = app.add_subcommand("info", "print what a scene contains and the GL limits of the context");
+  auto path = std::make_shared<std::string>();
+  cmd->add_option("scene", *path, "scene.json")->required()->check(CLI::ExistingFile);
+  cmd->callback([path, &exitCode] { exitCode = runInfo(*path); });
+}
+
+void addRenderCommand(CLI::App& app, int& exitCode) {
+  auto* cmd = app.add_subcommand("render", "render every camera of a views file to PNG");
+  auto o = std::make_shared<RenderOptions>();
+  addViewOptions(*cmd, o->view);
+  cmd->add_option("--out", o->out, "output directory")->required();
+  cmd->add_flag("--coverage", o->coverage, "also write <id>.coverage.png (255 where some image contributed)");
+  cmd->add_option("--debug", o->debug, "count: write <id>.count.png (16-bit raw counts) and a colour preview")
+      ->check(CLI::IsMember({"count"}));
+  cmd->add_option("--method", o->method, "blend (default), nearest or no-occlusion")
+      ->check(CLI::IsMember({"blend", "nearest", "no-occlusion"}));
+  cmd->callback([o, &exitCode] {
+    try {
+      exitCode = runRender(*o);
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      exitCode = 2;
+    }
+  });
+}
+
+}  // namespace hv::app

@@ -1,0 +1,98 @@
+// The plain description of one frame that the GL renderer consumes (DESIGN.md §2 steps 1, 4):
+// which photographs texture the view, with which weights, in which texture slices, with their
+// packed per-image parameters. No GL here: everything is CPU-testable.
+#pragma once
+
+#include "hv/camera/camera.h"
+#include "hv/ibr/selection.h"
+#include "hv/scene/scene.h"
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+namespace hv::ibr {
+
+enum class BlendMethod { Blend, Nearest };
+
+struct BlendSettings {
+  int k = 8;                  // images blended
+  double sigma = -1.0;        // f(d) = 1/(sigma^2 + d^2); <= 0: the scene's camera spacing
+  BlendMethod method = BlendMethod::Blend;
+  bool occlusion = true;      // depth-map (shadow) test
+  bool masks = true;
+  std::vector<std::string> exclude;  // photo ids left out (leave-one-out)
+};
+
+// The pinhole frustum a depth map (or the view's geometry pass) is rendered with: the ideal
+// (undistorted) pixel rectangle that covers the whole distorted image, and the depth range.
+struct PinholeFrustum {
+  glm::dvec2 pxMin{0.0}, pxMax{0.0};  // ideal pixels
+  double near = 0.01, far = 1000.0;   // along the camera axis, scene units
+};
+
+// Covers the distorted image domain [0,W]x[0,H]: the bounding box of the undistorted image border
+// (sampled every few pixels), widened by `marginPx`. Without distortion: [0,W]x[0,H] (+ margin).
+PinholeFrustum idealRectCoveringImage(const Camera& camera, double marginPx = 0.0);
+// Near/far from the scene bounds (corners' depths); near is kept above far * nearRatio.
+void setDepthRange(PinholeFrustum& frustum, const Camera& camera, const Aabb& sceneBounds, double nearRatio = 1e-5);
+
+// Column-major 4x4 clip-from-render matrix for that frustum, for a camera in the render frame
+// (camera centre minus origin). NDC y = -1 is the *top* of the image (pxMin.y): offscreen targets
+// are stored top row first, so texture row 0 is the image's top row and gl_FragCoord.xy is the
+// pixel position in the top-left convention (see docs/conventions.md).
+glm::dmat4 clipFromRender(const Camera& camera, const PinholeFrustum& frustum, const glm::dvec3& origin);
+
+struct SelectedImage {
+  int photo = -1;
+  double distance = 0.0;
+  double weight = 0.0;
+};
+
+struct FramePlan {
+  Camera view;                          // world frame
+  std::vector<SelectedImage> images;    // the K nearest, ascending distance
+  double nextDistance = -1.0;           // d_{K+1}; < 0 when there were K or fewer candidates
+  double sigma = 1.0;
+  BlendSettings settings;
+};
+
+FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& settings);
+
+// Where a photograph sits in the image texture array.
+struct SliceLayout {
+  int slice = 0;
+  glm::dvec2 uvScale{1.0};  // texture uv = pxDistorted * uvScale (folds the resize into the slice)
+};
+
+// Per-image shader parameters. Layout of one image in the RGBA32F data texture (8 texels, one
+// row per image); the GLSL reader is `hv_fetchImage` in shaders/ibr_common.glsl:
+//   t0..t2 : rows of M = K R (xyz), C_render.x / .y / .z (w)
+//   t3     : distortion centre (xy), c3, c5
+//   t4     : c7, r2max (< 0: no distortion), width, height
+//   t5     : uvScale (xy), slice, weight
+//   t6     : depth rect: pxMin (xy), 1/(pxMax - pxMin) (zw)
+//   t7     : near, far, bias (absolute, scene units), bias (relative to depth)
+inline constexpr int kTexelsPerImage = 8;
+
+struct DepthBias {
+  double absolute = 0.0;  // scene units
+  double relative = 0.0;  // times the depth
+};
+
+struct ImageParams {
+  glm::dmat3 pixFromWorld{1.0};
+  glm::dvec3 centerRender{0.0};
+  Camera camera;  // for distortion, size (world frame)
+  SliceLayout layout;
+  double weight = 0.0;
+  PinholeFrustum depth;
+  DepthBias bias;
+};
+
+ImageParams makeImageParams(const Camera& camera, const glm::dvec3& origin, const SliceLayout& layout, double weight,
+                            const PinholeFrustum& depth, const DepthBias& bias);
+void packImageParams(const ImageParams& p, float* out /* kTexelsPerImage * 4 floats */);
+
+}  // namespace hv::ibr

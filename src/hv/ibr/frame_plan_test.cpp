@@ -1,0 +1,196 @@
+#include "hv/ibr/frame_plan.h"
+
+#include "hv/ibr/reference_blend.h"
+#include "hv/ibr/slice_image.h"
+#include "hv/util/diagnostics.h"
+
+#include <gtest/gtest.h>
+
+namespace hv::ibr {
+namespace {
+
+Camera testCamera(glm::dvec3 center) {
+  Camera c;
+  c.id = "c";
+  c.width = 400;
+  c.height = 300;
+  c.center = center;
+  const double r[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};  // looking along +y, z up
+  c.camFromWorld = mat3FromRowMajor(r);
+  c.focal = {350.0, 350.0};
+  c.principal = {190.0, 160.0};
+  c.skew = 1.5;
+  return c;
+}
+
+TEST(ClipFromRender, AgreesWithCameraProjection) {
+  const glm::dvec3 origin(651000.0, 6862000.0, 40.0);
+  const Camera cam = testCamera(origin + glm::dvec3(3.0, -20.0, 2.0));
+  PinholeFrustum fr;
+  fr.pxMin = {-10.0, -20.0};
+  fr.pxMax = {420.0, 310.0};
+  fr.near = 0.5;
+  fr.far = 200.0;
+  const glm::dmat4 clip = clipFromRender(cam, fr, origin);
+  for (glm::dvec3 P : {glm::dvec3(651001.0, 6862010.0, 41.0), glm::dvec3(650990.0, 6862100.0, 30.0)}) {
+    const Projection p = cam.project(P);
+    const glm::dvec4 c = clip * glm::dvec4(P - origin, 1.0);
+    EXPECT_NEAR(c.w, p.depth, 1e-9);
+    const glm::dvec2 ndc = glm::dvec2(c) / c.w;
+    // NDC y = -1 is the top of the rectangle (pxMin.y).
+    EXPECT_NEAR(fr.pxMin.x + (ndc.x + 1.0) / 2.0 * (fr.pxMax.x - fr.pxMin.x), p.pxIdeal.x, 1e-7);
+    EXPECT_NEAR(fr.pxMin.y + (ndc.y + 1.0) / 2.0 * (fr.pxMax.y - fr.pxMin.y), p.pxIdeal.y, 1e-7);
+  }
+  // near -> ndc z = -1, far -> +1.
+  const glm::dvec3 axis = glm::transpose(cam.camFromWorld)[2];
+  for (auto [z, expected] : {std::pair{0.5, -1.0}, std::pair{200.0, 1.0}}) {
+    const glm::dvec4 c = clip * glm::dvec4(cam.center + z * axis - origin, 1.0);
+    EXPECT_NEAR(c.z / c.w, expected, 1e-9);
+  }
+}
+
+TEST(IdealRect, CoversTheDistortedImage) {
+  Camera cam = testCamera({0, 0, 0});
+  EXPECT_EQ(idealRectCoveringImage(cam).pxMin, glm::dvec2(0.0));
+  EXPECT_EQ(idealRectCoveringImage(cam).pxMax, glm::dvec2(400.0, 300.0));
+  RadialDistortion d;
+  d.center = {200.0, 150.0};
+  d.c3 = -1.5e-6;  // barrel: the image corners come from ideal points farther out
+  d.r2max = 400.0 * 400.0;
+  cam.distortion = d;
+  const PinholeFrustum fr = idealRectCoveringImage(cam);
+  for (glm::dvec2 corner : {glm::dvec2(0, 0), glm::dvec2(400, 0), glm::dvec2(0, 300), glm::dvec2(400, 300)}) {
+    const auto ideal = cam.undistort(corner);
+    ASSERT_TRUE(ideal.has_value());
+    EXPECT_LE(fr.pxMin.x, ideal->x + 1e-9);
+    EXPECT_LE(fr.pxMin.y, ideal->y + 1e-9);
+    EXPECT_GE(fr.pxMax.x, ideal->x - 1e-9);
+    EXPECT_GE(fr.pxMax.y, ideal->y - 1e-9);
+  }
+  EXPECT_LT(fr.pxMin.x, -1.0);  // strictly larger than the image
+}
+
+TEST(DepthRange, BracketsTheSceneBounds) {
+  const Camera cam = testCamera({0, -10, 0});
+  Aabb b;
+  b.extend({-5, 0, -1});
+  b.extend({5, 30, 4});
+  PinholeFrustum fr;
+  setDepthRange(fr, cam, b);
+  EXPECT_NEAR(fr.far, 40.0 * 1.01, 1e-9);
+  EXPECT_NEAR(fr.near, 10.0 * 0.99, 1e-9);
+}
+
+TEST(PackImageParams, LayoutMatchesTheShaderReader) {
+  Camera cam = testCamera({1, 2, 3});
+  RadialDistortion d;
+  d.center = {201.0, 151.0};
+  d.c3 = 1e-7;
+  d.c5 = 2e-13;
+  d.c7 = 3e-19;
+  d.r2max = 9e4;
+  cam.distortion = d;
+  PinholeFrustum fr;
+  fr.pxMin = {-4.0, -2.0};
+  fr.pxMax = {404.0, 302.0};
+  fr.near = 0.25;
+  fr.far = 99.0;
+  const ImageParams p = makeImageParams(cam, {1, 1, 1}, SliceLayout{7, {0.5, 0.25}}, 0.125, fr, {0.05, 0.01});
+  float o[kTexelsPerImage * 4];
+  packImageParams(p, o);
+  const glm::dmat3 M = cam.pixFromWorld();
+  EXPECT_FLOAT_EQ(o[0], float(M[0][0]));
+  EXPECT_FLOAT_EQ(o[1], float(M[1][0]));  // row 0, column 1
+  EXPECT_FLOAT_EQ(o[4], float(M[0][1]));  // row 1, column 0
+  EXPECT_FLOAT_EQ(o[3], 0.0f);            // C_render.x = 1 - 1
+  EXPECT_FLOAT_EQ(o[7], 1.0f);
+  EXPECT_FLOAT_EQ(o[11], 2.0f);
+  EXPECT_FLOAT_EQ(o[12], 201.0f);
+  EXPECT_FLOAT_EQ(o[14], 1e-7f);
+  EXPECT_FLOAT_EQ(o[16], 3e-19f);
+  EXPECT_FLOAT_EQ(o[17], 9e4f);
+  EXPECT_FLOAT_EQ(o[18], 400.0f);
+  EXPECT_FLOAT_EQ(o[19], 300.0f);
+  EXPECT_FLOAT_EQ(o[20], 0.5f);
+  EXPECT_FLOAT_EQ(o[22], 7.0f);
+  EXPECT_FLOAT_EQ(o[23], 0.125f);
+  EXPECT_FLOAT_EQ(o[24], -4.0f);
+  EXPECT_FLOAT_EQ(o[26], float(1.0 / 408.0));
+  EXPECT_FLOAT_EQ(o[28], 0.25f);
+  EXPECT_FLOAT_EQ(o[29], 99.0f);
+  EXPECT_FLOAT_EQ(o[30], 0.05f);
+  EXPECT_FLOAT_EQ(o[31], 0.01f);
+  cam.distortion.reset();
+  packImageParams(makeImageParams(cam, {0, 0, 0}, {}, 1.0, fr, {}), o);
+  EXPECT_LT(o[17], 0.0f);  // no distortion
+}
+
+TEST(SliceLayout, FoldsScaleIntoUv) {
+  Camera cam = testCamera({0, 0, 0});
+  // Fits as is: uv = p / slice size, no resampling.
+  SliceLayout l = sliceLayout(cam, {500, 400}, 3);
+  EXPECT_EQ(l.slice, 3);
+  EXPECT_DOUBLE_EQ(l.uvScale.x, 1.0 / 500.0);
+  EXPECT_DOUBLE_EQ(l.uvScale.y, 1.0 / 400.0);
+  // Too big: scaled by 0.5 into 200x150 texels of a 200x200 slice; the far corner maps to (1, 0.75).
+  l = sliceLayout(cam, {200, 200}, 0);
+  EXPECT_DOUBLE_EQ(400.0 * l.uvScale.x, 1.0);
+  EXPECT_DOUBLE_EQ(300.0 * l.uvScale.y, 0.75);
+}
+
+TEST(SliceImage, PremultipliesAndAppliesMask) {
+  Camera cam = testCamera({0, 0, 0});
+  cam.width = 4;
+  cam.height = 2;
+  Image8 photo(4, 2, 3, 200);
+  Image8 mask(4, 2, 1, 255);
+  mask.at(1, 0, 0) = 0;
+  const Image8 s = makeSliceImage(cam, photo, mask, {6, 3}, "t");
+  EXPECT_EQ(s.width, 6);
+  EXPECT_EQ(s.at(0, 0, 0), 200);
+  EXPECT_EQ(s.at(0, 0, 3), 255);
+  EXPECT_EQ(s.at(1, 0, 0), 0);  // masked: premultiplied to transparent black
+  EXPECT_EQ(s.at(1, 0, 3), 0);
+  EXPECT_EQ(s.at(5, 2, 3), 0);  // padding
+  EXPECT_THROW(makeSliceImage(cam, Image8(3, 3, 3), {}, {6, 3}, "t"), InputError);
+}
+
+TEST(ReferenceBlend, NormalisesMasksAndPicksNearest) {
+  // Two cameras looking at the same point; texture colours are constant per slice.
+  const Camera a = testCamera({0, -10, 0}), b = testCamera({1, -10, 0});
+  PinholeFrustum fr;
+  fr.pxMax = {400, 300};
+  std::vector<ImageParams> images = {makeImageParams(a, {0, 0, 0}, {0, {1.0 / 400, 1.0 / 300}}, 3.0, fr, {}),
+                                     makeImageParams(b, {0, 0, 0}, {1, {1.0 / 400, 1.0 / 300}}, 1.0, fr, {})};
+  glm::dvec4 colour[2] = {{0.8, 0.0, 0.0, 1.0}, {0.0, 0.4, 0.0, 1.0}};
+  TextureLookup tex = [&](int slice, glm::dvec2) { return colour[slice]; };
+  const glm::dvec3 P(0.5, 0.0, 0.0);
+  BlendResult r = referenceBlend(P, images, BlendMethod::Blend, tex, {});
+  EXPECT_EQ(r.count, 2);
+  EXPECT_NEAR(r.color.r, 0.8 * 3.0 / 4.0, 1e-12);
+  EXPECT_NEAR(r.color.g, 0.4 * 1.0 / 4.0, 1e-12);
+  // Mask (alpha 0) in the first: the second fills the pixel alone, at full colour.
+  colour[0] = glm::dvec4(0.0);
+  r = referenceBlend(P, images, BlendMethod::Blend, tex, {});
+  EXPECT_EQ(r.count, 1);
+  EXPECT_NEAR(r.color.g, 0.4, 1e-12);
+  // Nearest: first passing image; occluded images are skipped.
+  colour[0] = {0.8, 0.0, 0.0, 1.0};
+  r = referenceBlend(P, images, BlendMethod::Nearest, tex, [](size_t i, const glm::dvec3&, double) { return i != 0; });
+  EXPECT_NEAR(r.color.g, 0.4, 1e-12);
+  EXPECT_NEAR(r.color.r, 0.0, 1e-12);
+  // Behind both cameras: nothing.
+  EXPECT_FALSE(referenceBlend({0, -20, 0}, images, BlendMethod::Blend, tex, {}).covered());
+}
+
+TEST(SampleBilinear, MatchesTexelCentres) {
+  Image8 img(2, 1, 4, 0);
+  img.at(0, 0, 0) = 0;
+  img.at(1, 0, 0) = 255;
+  EXPECT_NEAR(sampleBilinear(img, {0.25, 0.5}).r, 0.0, 1e-12);  // centre of texel 0
+  EXPECT_NEAR(sampleBilinear(img, {0.5, 0.5}).r, 0.5, 1e-12);   // halfway
+  EXPECT_NEAR(sampleBilinear(img, {1.0, 0.5}).r, 1.0, 1e-12);   // clamp to edge
+}
+
+}  // namespace
+}  // namespace hv::ibr

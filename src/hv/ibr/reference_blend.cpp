@@ -1,0 +1,66 @@
+#include "hv/ibr/reference_blend.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hv::ibr {
+
+std::optional<ImageHit> projectIntoImage(const ImageParams& im, const glm::dvec3& P) {
+  const glm::dvec3 ph = im.pixFromWorld * (P - im.centerRender);
+  if (ph.z <= 0.0) return std::nullopt;
+  ImageHit hit;
+  hit.depth = ph.z;
+  hit.pxIdeal = glm::dvec2(ph) / ph.z;
+  const Camera& cam = im.camera;
+  if (cam.distortion && !cam.distortion->isIdentity() && !cam.distortion->inDomain(hit.pxIdeal)) return std::nullopt;
+  hit.pxDistorted = cam.distort(hit.pxIdeal);
+  if (hit.pxDistorted.x < 0.0 || hit.pxDistorted.y < 0.0 || hit.pxDistorted.x > cam.width ||
+      hit.pxDistorted.y > cam.height)
+    return std::nullopt;
+  return hit;
+}
+
+BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& images, BlendMethod method,
+                           const TextureLookup& texture, const VisibilityTest& visible) {
+  BlendResult out;
+  glm::dvec3 sum(0.0);
+  for (size_t i = 0; i < images.size(); ++i) {
+    const ImageParams& im = images[i];
+    const auto hit = projectIntoImage(im, P);
+    if (!hit) continue;
+    if (visible && !visible(i, P, hit->depth)) continue;
+    const glm::dvec4 texel = texture(im.layout.slice, hit->pxDistorted * im.layout.uvScale);
+    if (texel.a <= 0.0) continue;
+    if (method == BlendMethod::Nearest) {
+      // Images are sorted by distance: the first that passes every test wins.
+      out.color = glm::dvec3(texel) / texel.a;
+      out.alpha = 1.0;
+      out.count = 1;
+      return out;
+    }
+    if (im.weight <= 0.0) continue;
+    sum += im.weight * glm::dvec3(texel);  // premultiplied: rgb already times alpha
+    out.alpha += im.weight * texel.a;
+    ++out.count;
+  }
+  if (out.alpha > 0.0) out.color = sum / out.alpha;
+  return out;
+}
+
+glm::dvec4 sampleBilinear(const Image8& img, glm::dvec2 uv) {
+  const double fx = uv.x * img.width - 0.5, fy = uv.y * img.height - 0.5;
+  const double x0f = std::floor(fx), y0f = std::floor(fy);
+  const double tx = fx - x0f, ty = fy - y0f;
+  auto texel = [&](int x, int y) {
+    x = std::clamp(x, 0, img.width - 1);
+    y = std::clamp(y, 0, img.height - 1);
+    glm::dvec4 v(0.0, 0.0, 0.0, 1.0);
+    for (int c = 0; c < std::min(img.channels, 4); ++c) v[c] = img.at(x, y, c) / 255.0;
+    return v;
+  };
+  const int x0 = int(x0f), y0 = int(y0f);
+  return (1 - ty) * ((1 - tx) * texel(x0, y0) + tx * texel(x0 + 1, y0)) +
+         ty * ((1 - tx) * texel(x0, y0 + 1) + tx * texel(x0 + 1, y0 + 1));
+}
+
+}  // namespace hv::ibr

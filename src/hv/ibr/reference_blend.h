@@ -1,0 +1,40 @@
+// CPU reference of the per-fragment blend (DESIGN.md §2 step 5). It is the specification the
+// mesh shader (shaders/ibr_shade.frag, `hv_blend`) is tested against at sampled pixels.
+#pragma once
+
+#include "hv/ibr/frame_plan.h"
+#include "hv/image/image.h"
+
+#include <functional>
+#include <vector>
+
+namespace hv::ibr {
+
+struct BlendResult {
+  glm::dvec3 color{0.0};  // normalised colour c̄ / A
+  double alpha = 0.0;     // A = sum w_i a_i
+  int count = 0;          // images that contributed (passed every test, alpha and weight > 0)
+  bool covered() const { return alpha > 0.0; }
+};
+
+// Premultiplied RGBA in [0, 1] of slice `slice` at texture coordinate `uv`.
+using TextureLookup = std::function<glm::dvec4(int slice, glm::dvec2 uv)>;
+// Whether the point (render frame), at depth `depth` along image i's axis, is seen by image i.
+using VisibilityTest = std::function<bool(size_t image, const glm::dvec3& pointRender, double depth)>;
+
+// The project-and-test part shared by every pass: where `pointRender` falls in image i, or
+// nullopt when it is behind the camera, outside the distortion domain or outside the image.
+struct ImageHit {
+  glm::dvec2 pxIdeal{0.0}, pxDistorted{0.0};
+  double depth = 0.0;
+};
+std::optional<ImageHit> projectIntoImage(const ImageParams& image, const glm::dvec3& pointRender);
+
+BlendResult referenceBlend(const glm::dvec3& pointRender, const std::vector<ImageParams>& images, BlendMethod method,
+                           const TextureLookup& texture, const VisibilityTest& visible);
+
+// Bilinear lookup with clamp-to-edge and texel centres at (i + 0.5) / size, as GL_LINEAR does,
+// of an RGBA8 image; returns values in [0, 1].
+glm::dvec4 sampleBilinear(const Image8& rgba, glm::dvec2 uv);
+
+}  // namespace hv::ibr

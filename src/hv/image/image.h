@@ -1,0 +1,45 @@
+// In-memory images. Rows are stored top row first (row 0 is the top of the picture, matching the
+// pixel convention of hv/camera/camera.h); channels are interleaved.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hv {
+
+template <typename T>
+struct ImageT {
+  int width = 0, height = 0, channels = 0;
+  std::vector<T> data;
+
+  ImageT() = default;
+  ImageT(int w, int h, int c, T fill = T{}) : width(w), height(h), channels(c), data(size_t(w) * h * c, fill) {}
+  bool empty() const { return data.empty(); }
+  T* px(int x, int y) { return data.data() + (size_t(y) * width + x) * channels; }
+  const T* px(int x, int y) const { return data.data() + (size_t(y) * width + x) * channels; }
+  T& at(int x, int y, int c) { return data[(size_t(y) * width + x) * channels + c]; }
+  const T& at(int x, int y, int c) const { return data[(size_t(y) * width + x) * channels + c]; }
+};
+
+using Image8 = ImageT<std::uint8_t>;
+using Image16 = ImageT<std::uint16_t>;
+using ImageF = ImageT<float>;
+
+// Decodes a JPEG or PNG (8-bit; 16-bit PNGs are reduced to 8 bits) into 1..4 channels.
+// `wantChannels` 0 keeps the file's. Throws InputError naming the file on failure.
+Image8 readImage(const std::string& path, int wantChannels = 0);
+// Same, from memory (fuzzing, web).
+Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& nameForErrors, int wantChannels = 0);
+// 16-bit PNG reading (raw counts), for tests of --debug count.
+Image16 readPng16(const std::string& path);
+
+// PNG writers (libpng). Throw std::runtime_error naming the file on failure.
+void writePng(const std::string& path, const Image8& image);
+void writePng16(const std::string& path, const Image16& image);
+void writeJpeg(const std::string& path, const Image8& image, int quality = 92);
+
+// Bilinear resize (for scaling photographs into texture slices). Pixel-centre aligned.
+Image8 resizeBilinear(const Image8& src, int width, int height);
+
+}  // namespace hv

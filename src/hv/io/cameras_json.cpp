@@ -1,0 +1,175 @@
+#include "hv/io/cameras_json.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace hv {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Field readers: each names what it expected, so the message says file, camera, field, expected.
+double number(const json& j, const char* field) {
+  if (!j.contains(field)) throw InputError(std::string(field) + ": missing (expected a number)");
+  const json& v = j.at(field);
+  if (!v.is_number()) throw InputError(std::string(field) + ": expected a number, got " + v.dump());
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw InputError(std::string(field) + ": expected a finite number");
+  return d;
+}
+
+std::vector<double> numbers(const json& j, const char* field, size_t n) {
+  if (!j.contains(field)) throw InputError(std::string(field) + ": missing (expected " + std::to_string(n) + " numbers)");
+  const json& v = j.at(field);
+  if (!v.is_array() || v.size() != n)
+    throw InputError(std::string(field) + ": expected an array of " + std::to_string(n) + " numbers, got " +
+                     v.dump().substr(0, 80));
+  std::vector<double> out;
+  for (const auto& e : v) {
+    // nlohmann parses NaN/Infinity as invalid JSON, but null sneaks in for them in some writers.
+    if (!e.is_number()) throw InputError(std::string(field) + ": expected numbers, got " + e.dump());
+    out.push_back(e.get<double>());
+    if (!std::isfinite(out.back())) throw InputError(std::string(field) + ": expected finite numbers");
+  }
+  return out;
+}
+
+int positiveInt(const json& j, const char* field) {
+  const double d = number(j, field);
+  if (d <= 0 || d != std::floor(d) || d > 65536) throw InputError(std::string(field) + ": expected a positive integer, got " + j.at(field).dump());
+  return int(d);
+}
+
+std::string resolve(const std::string& baseDir, const std::string& p) {
+  if (p.empty() || fs::path(p).is_absolute()) return p;
+  return (fs::path(baseDir) / p).lexically_normal().string();
+}
+
+Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOptions& opt) {
+  Photo photo;
+  Camera& c = photo.camera;
+  if (!j.is_object()) throw InputError("expected an object");
+  if (!j.contains("id") || !(j["id"].is_string() || j["id"].is_number_integer()))
+    throw InputError("id: missing (expected a string)");
+  c.id = j["id"].is_string() ? j["id"].get<std::string>() : std::to_string(j["id"].get<long long>());
+  try {
+    c.width = positiveInt(j, "width");
+    c.height = positiveInt(j, "height");
+    auto ctr = numbers(j, "center", 3);
+    c.center = {ctr[0], ctr[1], ctr[2]};
+    auto rot = numbers(j, "rotation", 9);
+    c.camFromWorld = mat3FromRowMajor(rot.data());
+    auto f = numbers(j, "focal", 2);
+    c.focal = {f[0], f[1]};
+    auto pp = numbers(j, "principal", 2);
+    c.principal = {pp[0], pp[1]};
+    c.skew = j.contains("skew") ? number(j, "skew") : 0.0;
+    if (j.contains("distortion") && !j["distortion"].is_null()) {
+      const json& d = j["distortion"];
+      if (!d.is_object()) throw InputError("distortion: expected an object");
+      const std::string type = d.value("type", "radial");
+      if (type != "radial") throw InputError("distortion.type: expected \"radial\", got \"" + type + "\"");
+      RadialDistortion rd;
+      auto dc = numbers(d, "center", 2);
+      rd.center = {dc[0], dc[1]};
+      rd.c3 = d.contains("c3") ? number(d, "c3") : 0.0;
+      rd.c5 = d.contains("c5") ? number(d, "c5") : 0.0;
+      rd.c7 = d.contains("c7") ? number(d, "c7") : 0.0;
+      rd.r2max = d.contains("r2max") ? number(d, "r2max") : 1e30;
+      if (rd.r2max <= 0) throw InputError("distortion.r2max: expected a positive number");
+      c.distortion = rd;
+    }
+    validateCamera(c);
+    if (j.contains("image") && j["image"].is_string()) photo.imagePath = resolve(baseDir, j["image"].get<std::string>());
+    else if (j.contains("image") && !j["image"].is_null()) throw InputError("image: expected a path string");
+    if (opt.requireImages && photo.imagePath.empty()) throw InputError("image: missing (expected a path to a JPEG or PNG)");
+    if (j.contains("mask") && j["mask"].is_string()) photo.maskPath = resolve(baseDir, j["mask"].get<std::string>());
+    if (opt.checkImageFiles) {
+      if (!photo.imagePath.empty() && !fs::is_regular_file(photo.imagePath))
+        throw InputError("image: file not found: " + photo.imagePath);
+      if (!photo.maskPath.empty() && !fs::is_regular_file(photo.maskPath))
+        throw InputError("mask: file not found: " + photo.maskPath);
+    }
+    if (j.contains("date") && j["date"].is_string()) photo.date = j["date"].get<std::string>();
+  } catch (const InputError& e) {
+    // validateCamera already names the camera; field readers do not.
+    const std::string what = e.what();
+    if (what.rfind("camera '", 0) == 0) throw;
+    throw InputError("camera '" + c.id + "': " + what);
+  }
+  return photo;
+}
+
+}  // namespace
+
+std::vector<Photo> parseCameraJson(const std::string& text, const std::string& path, const std::string& baseDir,
+                                   const CameraFileOptions& opt, Diagnostics& diag) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(path + ": not valid JSON: " + e.what());
+  }
+  if (!doc.is_object() || !doc.contains("cameras") || !doc["cameras"].is_array())
+    throw InputError(path + ": cameras: missing (expected an object with a \"cameras\" array)");
+  std::vector<Photo> out;
+  size_t index = 0;
+  for (const auto& j : doc["cameras"]) {
+    try {
+      out.push_back(parseOne(j, baseDir, opt));
+    } catch (const InputError& e) {
+      std::string msg = e.what();
+      if (msg.rfind("camera '", 0) != 0) msg = "camera #" + std::to_string(index) + ": " + msg;
+      diag.error(path + ": " + msg + " (camera skipped)");
+    } catch (const json::exception& e) {
+      diag.error(path + ": camera #" + std::to_string(index) + ": " + e.what() + " (camera skipped)");
+    }
+    ++index;
+  }
+  return out;
+}
+
+std::vector<Photo> readCameraFile(const std::string& path, const CameraFileOptions& opt, Diagnostics& diag) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open camera file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string dir = fs::path(path).parent_path().string();
+  return parseCameraJson(ss.str(), path, dir.empty() ? "." : dir, opt, diag);
+}
+
+std::string cameraJson(const std::vector<Photo>& photos, const std::string& baseDir) {
+  json arr = json::array();
+  for (const auto& p : photos) {
+    const Camera& c = p.camera;
+    double r[9];
+    mat3ToRowMajor(c.camFromWorld, r);
+    json j = {{"id", c.id},
+              {"width", c.width},
+              {"height", c.height},
+              {"center", {c.center.x, c.center.y, c.center.z}},
+              {"rotation", std::vector<double>(r, r + 9)},
+              {"focal", {c.focal.x, c.focal.y}},
+              {"principal", {c.principal.x, c.principal.y}},
+              {"skew", c.skew}};
+    if (!p.imagePath.empty())
+      j["image"] = baseDir.empty() ? p.imagePath : fs::relative(p.imagePath, baseDir).string();
+    if (!p.maskPath.empty())
+      j["mask"] = baseDir.empty() ? p.maskPath : fs::relative(p.maskPath, baseDir).string();
+    if (c.distortion) {
+      const auto& d = *c.distortion;
+      j["distortion"] = {{"type", "radial"}, {"center", {d.center.x, d.center.y}}, {"c3", d.c3},
+                         {"c5", d.c5},       {"c7", d.c7},                         {"r2max", d.r2max}};
+    }
+    if (!p.date.empty()) j["date"] = p.date;
+    arr.push_back(j);
+  }
+  return json{{"cameras", arr}}.dump(1);
+}
+
+}  // namespace hv

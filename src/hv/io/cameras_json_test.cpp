@@ -1,0 +1,94 @@
+#include "hv/io/cameras_json.h"
+
+#include <gtest/gtest.h>
+
+namespace hv {
+namespace {
+
+const char* kGood = R"({"id": "good", "width": 640, "height": 480, "center": [651000.5, 6862000.25, 40],
+  "rotation": [1, 0, 0, 0, 0, -1, 0, 1, 0], "focal": [500, 500], "principal": [320, 240], "skew": 0,
+  "distortion": {"type": "radial", "center": [321, 241], "c3": 1e-7, "c5": 0, "c7": 0, "r2max": 1e6},
+  "image": "img/good.jpg", "mask": "m.png", "date": "1905-06-01"})";
+
+std::vector<Photo> parse(const std::string& cams, Diagnostics& diag) {
+  CameraFileOptions opt;
+  opt.checkImageFiles = false;
+  return parseCameraJson("{\"cameras\": [" + cams + "]}", "cams.json", "/data", opt, diag);
+}
+
+TEST(CameraJson, ReadsEveryField) {
+  Diagnostics diag;
+  const auto photos = parse(kGood, diag);
+  ASSERT_EQ(photos.size(), 1u);
+  EXPECT_TRUE(diag.ok());
+  const Camera& c = photos[0].camera;
+  EXPECT_EQ(c.id, "good");
+  EXPECT_EQ(c.center, glm::dvec3(651000.5, 6862000.25, 40.0));
+  EXPECT_EQ(c.camFromWorld[1][2], 1.0);  // row 2, column 1
+  EXPECT_EQ(c.camFromWorld[2][1], -1.0);
+  ASSERT_TRUE(c.distortion.has_value());
+  EXPECT_EQ(c.distortion->c3, 1e-7);
+  EXPECT_EQ(photos[0].imagePath, "/data/img/good.jpg");
+  EXPECT_EQ(photos[0].maskPath, "/data/m.png");
+  EXPECT_EQ(photos[0].date, "1905-06-01");
+}
+
+TEST(CameraJson, BadCamerasAreSkippedWithNamedErrors) {
+  struct Case {
+    std::string json, field;
+  };
+  const std::string base = R"("width": 64, "height": 48, "center": [0, 0, 0], "principal": [32, 24], "image": "a.png")";
+  const std::vector<Case> cases = {
+      {R"({"id": "nofocal", )" + base + R"(, "rotation": [1,0,0,0,1,0,0,0,1]})", "focal"},
+      {R"({"id": "negfocal", )" + base + R"(, "rotation": [1,0,0,0,1,0,0,0,1], "focal": [-5, 5]})", "focal"},
+      {R"({"id": "shortrot", )" + base + R"(, "rotation": [1,0,0,0,1,0,0,0], "focal": [5, 5]})", "rotation"},
+      {R"({"id": "skewed", )" + base + R"(, "rotation": [1,0.1,0,0,1,0,0,0,1], "focal": [5, 5]})", "rotation"},
+      {R"({"id": "nullnum", )" + base + R"(, "rotation": [1,0,0,0,1,0,0,0,null], "focal": [5, 5]})", "rotation"},
+      {R"({"id": "noimage", "width": 64, "height": 48, "center": [0, 0, 0], "principal": [32, 24],
+          "rotation": [1,0,0,0,1,0,0,0,1], "focal": [5, 5]})", "image"},
+  };
+  for (const auto& c : cases) {
+    Diagnostics diag;
+    const auto photos = parse(std::string(kGood) + "," + c.json, diag);
+    EXPECT_EQ(photos.size(), 1u) << c.json;  // the good one still loads
+    ASSERT_EQ(diag.errors.size(), 1u) << c.json;
+    const std::string& m = diag.errors[0];
+    EXPECT_NE(m.find("cams.json"), std::string::npos) << m;
+    EXPECT_NE(m.find(c.field), std::string::npos) << m;
+    const std::string id = c.json.substr(8, c.json.find('"', 8) - 8);
+    EXPECT_NE(m.find(id), std::string::npos) << m;
+  }
+}
+
+TEST(CameraJson, MissingImageFileIsAnError) {
+  Diagnostics diag;
+  CameraFileOptions opt;  // checks files
+  const auto photos = parseCameraJson(std::string("{\"cameras\": [") + kGood + "]}", "cams.json", "/nonexistent",
+                                      opt, diag);
+  EXPECT_TRUE(photos.empty());
+  ASSERT_EQ(diag.errors.size(), 1u);
+  EXPECT_NE(diag.errors[0].find("image"), std::string::npos);
+  EXPECT_NE(diag.errors[0].find("good"), std::string::npos);
+}
+
+TEST(CameraJson, BrokenDocumentsThrowNamingTheFile) {
+  Diagnostics diag;
+  CameraFileOptions opt;
+  EXPECT_THROW(parseCameraJson("{not json", "x.json", ".", opt, diag), InputError);
+  EXPECT_THROW(parseCameraJson("{\"cams\": []}", "x.json", ".", opt, diag), InputError);
+  EXPECT_THROW(readCameraFile("/nonexistent/cameras.json", opt, diag), InputError);
+}
+
+TEST(CameraJson, WritesWhatItReads) {
+  Diagnostics diag;
+  const auto photos = parse(kGood, diag);
+  const std::string text = cameraJson(photos, "/data");
+  const auto again = parse(text.substr(text.find('[') + 1, text.rfind(']') - text.find('[') - 1), diag);
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(again[0].camera.center, photos[0].camera.center);
+  EXPECT_EQ(again[0].camera.focal, photos[0].camera.focal);
+  EXPECT_EQ(again[0].imagePath, photos[0].imagePath);
+}
+
+}  // namespace
+}  // namespace hv

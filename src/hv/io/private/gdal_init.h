@@ -1,0 +1,30 @@
+// GDAL set-up shared by the readers under hv/io/private/. Private: includes GDAL headers, so only
+// .cpp files under io/private/ may include it.
+#pragma once
+
+#include <cpl_error.h>
+
+#include <string>
+
+namespace hv::gdal {
+
+// Registers GDAL's drivers once per process, whichever thread asks first (std::call_once).
+void ensureRegistered();
+
+// While alive, GDAL errors raised on this thread are not printed to stderr; the caller reports
+// them through InputError / Diagnostics instead (GDAL's handler stack is thread-local).
+class QuietErrors {
+ public:
+  QuietErrors() {
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+  }
+  ~QuietErrors() { CPLPopErrorHandler(); }
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+};
+
+// GDAL's last error message on this thread, or `fallback` when it left none.
+std::string lastError(const std::string& fallback);
+
+}  // namespace hv::gdal

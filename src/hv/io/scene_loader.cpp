@@ -1,0 +1,117 @@
+#include "hv/io/scene_loader.h"
+
+#include "hv/io/cameras_json.h"
+#include "hv/io/footprints.h"
+#include "hv/io/raster.h"
+#include "hv/scene/lod1.h"
+#include "hv/util/log.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace hv {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string sourcePath(const json& doc, const char* key, const std::string& dir, const std::string& file) {
+  const json& s = doc.at(key);
+  if (!s.is_object() || !s.contains("path") || !s["path"].is_string())
+    throw InputError(file + ": " + key + ".path: expected a string path");
+  fs::path p = s["path"].get<std::string>();
+  return (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+}
+
+std::optional<std::string> optionalString(const json& obj, const char* key, const std::string& where) {
+  if (!obj.contains(key) || obj[key].is_null()) return std::nullopt;
+  if (!obj[key].is_string()) throw InputError(where + "." + key + ": expected an attribute name (string) or null");
+  return obj[key].get<std::string>();
+}
+
+glm::dvec3 vec3Field(const json& doc, const char* key, const std::string& file) {
+  const json& v = doc.at(key);
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+    throw InputError(file + ": " + key + ": expected [x, y, z]");
+  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, Diagnostics& diag) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(ss.str());
+  } catch (const json::parse_error& e) {
+    throw InputError(path + ": not valid JSON: " + e.what());
+  }
+  if (!doc.is_object()) throw InputError(path + ": expected a JSON object");
+
+  Scene scene;
+  scene.path = path;
+  const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+  if (doc.contains("crs") && doc["crs"].is_string()) scene.crs = doc["crs"].get<std::string>();
+  if (doc.contains("up")) {
+    scene.up = vec3Field(doc, "up", path);
+    if (glm::length(scene.up) == 0.0) throw InputError(path + ": up: expected a non-zero vector");
+    scene.up = glm::normalize(scene.up);
+  }
+
+  Heightfield dtm;
+  if (doc.contains("terrain")) {
+    try {
+      const std::string p = sourcePath(doc, "terrain", dir, path);
+      dtm = readHeightfield(p);
+      scene.terrain = dtm.toMesh();
+      log::debug("terrain: " + p + ": " + std::to_string(dtm.cols) + "x" + std::to_string(dtm.rows));
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (terrain left out)");
+    }
+  }
+  if (doc.contains("buildings")) {
+    try {
+      const std::string p = sourcePath(doc, "buildings", dir, path);
+      const json& b = doc["buildings"];
+      FootprintFields fields;
+      if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
+      fields.base = optionalString(b, "base", path + ": buildings");
+      fields.top = optionalString(b, "top", path + ": buildings");
+      fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
+      fields.validTo = optionalString(b, "valid_to", path + ": buildings");
+      const auto footprints = readFootprints(p, fields, diag);
+      scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (buildings left out)");
+    }
+  }
+  if (doc.contains("cameras")) {
+    try {
+      const std::string p = sourcePath(doc, "cameras", dir, path);
+      const json& c = doc["cameras"];
+      const std::string format = c.value("format", "native");
+      if (format != "native") throw InputError(path + ": cameras.format: expected \"native\", got \"" + format + "\"");
+      scene.photos = readCameraFile(p, CameraFileOptions{}, diag);
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (cameras left out)");
+    }
+  }
+
+  if (doc.contains("origin")) {
+    scene.origin = vec3Field(doc, "origin", path);
+  } else {
+    // Centre of the data, rounded to whole metres so the render frame is easy to read in logs.
+    const glm::dvec3 c = scene.bounds().empty() ? glm::dvec3(0.0) : scene.bounds().center();
+    scene.origin = glm::round(c);
+  }
+  return scene;
+}
+
+}  // namespace hv

@@ -1,0 +1,487 @@
+#include "hv/render/renderer.h"
+
+#include "hv/gpu/gl.h"
+#include "hv/ibr/slice_image.h"
+#include "hv/util/log.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace hv::render {
+
+using gpu::checkGlError;
+
+namespace {
+
+// Texture units, fixed for every program.
+enum Unit : GLint { kUnitImages = 0, kUnitDepthMaps = 1, kUnitParams = 2, kUnitViewDepth = 3, kUnitLookup = 4 };
+
+void setNearestClamp(GLenum target) {
+  glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+void uploadMat4(GLint loc, const glm::dmat4& m) {
+  float f[16];
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) f[4 * c + r] = float(m[c][r]);
+  glUniformMatrix4fv(loc, 1, GL_FALSE, f);
+}
+
+void uploadMat3(GLint loc, const glm::dmat3& m) {
+  float f[9];
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) f[3 * c + r] = float(m[c][r]);
+  glUniformMatrix3fv(loc, 1, GL_FALSE, f);
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  const Scene& scene;
+  RenderSettings settings;
+  Diagnostics& diag;
+  gpu::GlLimits limits;
+  ibr::CameraIndex index;
+
+  gpu::Program depthProgram, shadeProgram;
+  gpu::VertexArray meshVao, emptyVao;
+  gpu::Buffer vertexBuffer, indexBuffer;
+  GLsizei indexCount = 0;
+  Aabb bounds;
+
+  // Slots: slice i of both arrays belongs to slotPhoto[i].
+  ibr::SliceSize sliceSize;
+  int depthSize = 0;
+  int slotCount = 0;
+  gpu::Texture imageArray, depthArray, paramsTexture;
+  int paramsRows = 0;
+  std::vector<int> slotPhoto;
+  std::vector<std::uint64_t> slotLastUse;
+  std::vector<bool> slotDepthDirty;
+  std::vector<ibr::PinholeFrustum> slotFrustum;
+  std::unordered_map<int, int> photoSlot;
+  std::vector<bool> photoBroken;
+  std::uint64_t frame = 0;
+  gpu::Framebuffer depthFbo, viewFbo;
+  gpu::Texture viewDepth, viewColor, lookupTexture;
+  glm::ivec2 viewDepthSize{0}, viewColorSize{0};
+
+  ibr::FramePlan plan;
+  std::vector<ibr::ImageParams> params;
+  RenderStats stats;
+
+  Impl(const Scene& s, RenderSettings st, Diagnostics& d) : scene(s), settings(st), diag(d), index(centers(s)) {}
+
+  static std::vector<glm::dvec3> centers(const Scene& s) {
+    std::vector<glm::dvec3> c;
+    for (const auto& p : s.photos) c.push_back(p.camera.center);
+    return c;
+  }
+
+  void init() {
+    limits = gpu::queryLimits();
+    depthProgram = gpu::Program("depth.vert", "depth.frag");
+    shadeProgram = gpu::Program("fullscreen.vert", "ibr_shade.frag");
+    uploadGeometry();
+    allocateSlots();
+    depthFbo = gpu::makeFramebuffer();
+    viewFbo = gpu::makeFramebuffer();
+    emptyVao = gpu::makeVertexArray();
+    photoBroken.assign(scene.photos.size(), false);
+    checkGlError("renderer initialisation");
+  }
+
+  void uploadGeometry() {
+    std::vector<float> vertices;
+    std::vector<std::uint32_t> indices;
+    for (const Mesh* m : {&scene.terrain, &scene.buildings}) {
+      const auto base = std::uint32_t(vertices.size() / 3);
+      for (const auto& p : m->positions) {
+        const glm::dvec3 r = p - scene.origin;  // render frame: small floats (DESIGN.md §1)
+        vertices.insert(vertices.end(), {float(r.x), float(r.y), float(r.z)});
+      }
+      for (const auto& t : m->triangles) indices.insert(indices.end(), {t.x + base, t.y + base, t.z + base});
+      bounds.extend(m->bounds());
+    }
+    for (const auto& p : scene.photos) bounds.extend(p.camera.center);
+    indexCount = GLsizei(indices.size());
+    meshVao = gpu::makeVertexArray();
+    vertexBuffer = gpu::makeBuffer();
+    indexBuffer = gpu::makeBuffer();
+    glBindVertexArray(meshVao.id());
+    glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer.id());
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer.id());
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    checkGlError("geometry upload");
+  }
+
+  void allocateSlots() {
+    int w = 1, h = 1;
+    for (const auto& p : scene.photos) {
+      w = std::max(w, p.camera.width);
+      h = std::max(h, p.camera.height);
+    }
+    const int cap = std::min(settings.maxSliceSize, limits.maxTextureSize);
+    if (w > cap || h > cap) {
+      const double s = std::min(double(cap) / w, double(cap) / h);
+      w = std::max(1, int(std::floor(w * s)));
+      h = std::max(1, int(std::floor(h * s)));
+    }
+    sliceSize = {w, h};
+    depthSize = std::clamp(settings.depthSize, 16, limits.maxTextureSize);
+    if (depthSize != settings.depthSize)
+      diag.warn("depth-map size " + std::to_string(settings.depthSize) + " exceeds MAX_TEXTURE_SIZE; using " +
+                std::to_string(depthSize));
+    const std::size_t perSlot = std::size_t(w) * h * 4 + std::size_t(depthSize) * depthSize * 4;
+    const int byMemory = int(std::max<std::size_t>(1, settings.memoryBudgetBytes / perSlot));
+    slotCount = std::min({settings.maxSlices, limits.maxArrayTextureLayers, byMemory,
+                          std::max(1, int(scene.photos.size()))});
+    slotCount = std::max(slotCount, 1);
+    slotPhoto.assign(size_t(slotCount), -1);
+    slotLastUse.assign(size_t(slotCount), 0);
+    slotDepthDirty.assign(size_t(slotCount), true);
+    slotFrustum.assign(size_t(slotCount), {});
+
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    imageArray = gpu::makeTexture();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, w, h, slotCount, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    depthArray = gpu::makeTexture();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, depthSize, depthSize, slotCount, 0,
+                 GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+    setNearestClamp(GL_TEXTURE_2D_ARRAY);  // float depth is not filterable in ES 3.0
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    checkGlError("slice arrays");
+    log::debug("slices: " + std::to_string(slotCount) + " of " + std::to_string(w) + "x" + std::to_string(h) +
+               ", depth maps " + std::to_string(depthSize) + "^2");
+  }
+
+  // Loads a photograph into a slot (least recently used one not needed by this frame).
+  // Returns the slot, or -1 when the photo cannot be read (marked broken, error reported).
+  int acquire(int photo, const std::vector<bool>& pinned) {
+    if (auto it = photoSlot.find(photo); it != photoSlot.end()) {
+      slotLastUse[size_t(it->second)] = frame;
+      return it->second;
+    }
+    int slot = -1;
+    for (int s = 0; s < slotCount; ++s) {
+      if (pinned[size_t(s)]) continue;
+      if (slot < 0 || slotPhoto[size_t(s)] < 0 ||
+          (slotPhoto[size_t(slot)] >= 0 && slotLastUse[size_t(s)] < slotLastUse[size_t(slot)]))
+        slot = s;
+      if (slotPhoto[size_t(s)] < 0) break;
+    }
+    if (slot < 0) return -1;
+    const Photo& p = scene.photos[size_t(photo)];
+    Image8 sliceImage;
+    try {
+      const Image8 colour = readImage(p.imagePath);
+      Image8 mask;
+      if (!p.maskPath.empty() && settings.blend.masks) mask = readImage(p.maskPath, 1);
+      sliceImage = ibr::makeSliceImage(p.camera, colour, mask, sliceSize, "camera '" + p.camera.id + "': image");
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (camera '" + p.camera.id + "' skipped)");
+      photoBroken[size_t(photo)] = true;
+      return -1;
+    }
+    if (slotPhoto[size_t(slot)] >= 0) photoSlot.erase(slotPhoto[size_t(slot)]);
+    slotPhoto[size_t(slot)] = photo;
+    photoSlot[photo] = slot;
+    slotLastUse[size_t(slot)] = frame;
+    slotDepthDirty[size_t(slot)] = true;
+    ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(p.camera, 1.0);
+    ibr::setDepthRange(fr, p.camera, bounds);
+    slotFrustum[size_t(slot)] = fr;
+    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, slot, sliceSize.width, sliceSize.height, 1, GL_RGBA,
+                    GL_UNSIGNED_BYTE, sliceImage.data.data());
+    checkGlError("image upload");
+    ++stats.imagesLoaded;
+    return slot;
+  }
+
+  void drawDepth(const glm::dmat4& clip, double near, double far) {
+    depthProgram.use();
+    uploadMat4(depthProgram.uniform("u_clipFromRender"), clip);
+    glUniform1f(depthProgram.uniform("u_near"), float(near));
+    glUniform1f(depthProgram.uniform("u_far"), float(far));
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glClearDepthf(1.0f);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    if (indexCount > 0) {
+      glBindVertexArray(meshVao.id());
+      glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
+      glBindVertexArray(0);
+    }
+    glDisable(GL_DEPTH_TEST);
+  }
+
+  void renderDepthMap(int slot) {
+    const Camera& cam = scene.photos[size_t(slotPhoto[size_t(slot)])].camera;
+    const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
+    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo.id());
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray.id(), 0, slot);
+    const GLenum none = GL_NONE;
+    glDrawBuffers(1, &none);
+    glReadBuffer(GL_NONE);
+    gpu::checkFramebuffer("depth map");
+    glViewport(0, 0, depthSize, depthSize);
+    drawDepth(ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far);
+    slotDepthDirty[size_t(slot)] = false;
+    ++stats.depthMapsRendered;
+  }
+
+  void ensureParamsTexture(int rows) {
+    if (paramsTexture && rows <= paramsRows) return;
+    paramsRows = std::max(rows, 64);
+    if (paramsRows > limits.maxTextureSize)
+      throw std::runtime_error("more images per pass than MAX_TEXTURE_SIZE rows of parameters");
+    paramsTexture = gpu::makeTexture();
+    glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, ibr::kTexelsPerImage, paramsRows, 0, GL_RGBA, GL_FLOAT, nullptr);
+    setNearestClamp(GL_TEXTURE_2D);
+  }
+
+  void ensureViewTargets(glm::ivec2 depthSz, glm::ivec2 colorSz) {
+    if (depthSz != viewDepthSize) {
+      viewDepth = gpu::makeTexture();
+      glBindTexture(GL_TEXTURE_2D, viewDepth.id());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, depthSz.x, depthSz.y, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                   nullptr);
+      setNearestClamp(GL_TEXTURE_2D);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+      viewDepthSize = depthSz;
+    }
+    if (colorSz != viewColorSize) {
+      viewColor = gpu::makeTexture();
+      glBindTexture(GL_TEXTURE_2D, viewColor.id());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, colorSz.x, colorSz.y, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+      setNearestClamp(GL_TEXTURE_2D);
+      viewColorSize = colorSz;
+    }
+    checkGlError("view targets");
+  }
+
+  double depthBiasAbsolute() const {
+    if (settings.depthBiasAbsolute >= 0.0) return settings.depthBiasAbsolute;
+    // Derived from the data's own scale (DESIGN.md §1), not fixed metres.
+    return 5e-4 * glm::length(bounds.size());
+  }
+
+  std::vector<std::string> excludedIds() const {
+    std::vector<std::string> ids = settings.blend.exclude;
+    for (size_t i = 0; i < photoBroken.size(); ++i)
+      if (photoBroken[i]) ids.push_back(scene.photos[i].camera.id);
+    return ids;
+  }
+
+  RenderOutput render(const Camera& view, bool withCounts) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ++frame;
+    ibr::BlendSettings blend = settings.blend;
+    if (blend.k > slotCount) {
+      diag.warn("K = " + std::to_string(blend.k) + " exceeds the image slots available (" +
+                std::to_string(slotCount) + ", bounded by MAX_ARRAY_TEXTURE_LAYERS = " +
+                std::to_string(limits.maxArrayTextureLayers) + " and the memory budget); using K = " +
+                std::to_string(slotCount));
+      blend.k = slotCount;
+    }
+    // Plan, then make every selected image resident; a photo that fails to load is excluded and
+    // the frame is planned again, so the blend never counts an image it cannot sample.
+    std::vector<int> slots;
+    for (int attempt = 0;; ++attempt) {
+      blend.exclude = excludedIds();
+      plan = ibr::planFrame(scene, index, view, blend);
+      std::vector<bool> pinned(size_t(slotCount), false);
+      for (const auto& im : plan.images)
+        if (auto it = photoSlot.find(im.photo); it != photoSlot.end()) pinned[size_t(it->second)] = true;
+      slots.clear();
+      bool failed = false;
+      for (const auto& im : plan.images) {
+        const int slot = acquire(im.photo, pinned);
+        if (slot < 0) {
+          failed = true;
+          break;
+        }
+        pinned[size_t(slot)] = true;
+        slots.push_back(slot);
+      }
+      if (!failed) break;
+      if (attempt > int(scene.photos.size())) throw std::runtime_error("cannot make the selected images resident");
+    }
+    for (int slot : slots)
+      if (slotDepthDirty[size_t(slot)]) renderDepthMap(slot);
+
+    // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image.
+    params.clear();
+    std::vector<float> packed;
+    const double biasAbs = depthBiasAbsolute();
+    for (size_t i = 0; i < plan.images.size(); ++i) {
+      const Camera& cam = scene.photos[size_t(plan.images[i].photo)].camera;
+      const ibr::PinholeFrustum& fr = slotFrustum[size_t(slots[i])];
+      const double texel = std::max((fr.pxMax.x - fr.pxMin.x) / (depthSize * cam.focal.x),
+                                    (fr.pxMax.y - fr.pxMin.y) / (depthSize * cam.focal.y));
+      const ibr::DepthBias bias{biasAbs, settings.depthBiasTexels * texel};
+      params.push_back(ibr::makeImageParams(cam, scene.origin, ibr::sliceLayout(cam, sliceSize, slots[i]),
+                                            plan.images[i].weight, fr, bias));
+      packed.resize(packed.size() + ibr::kTexelsPerImage * 4);
+      ibr::packImageParams(params.back(), packed.data() + packed.size() - ibr::kTexelsPerImage * 4);
+    }
+    ensureParamsTexture(int(params.size()));
+    if (!params.empty()) {
+      glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, ibr::kTexelsPerImage, GLsizei(params.size()), GL_RGBA, GL_FLOAT,
+                      packed.data());
+    }
+
+    // View geometry pass: linear depth over the pinhole rectangle covering the (distorted) view.
+    const bool distorted = view.distortion && !view.distortion->isIdentity();
+    ibr::PinholeFrustum vf = ibr::idealRectCoveringImage(view, 0.0);
+    ibr::setDepthRange(vf, view, bounds);
+    glm::ivec2 depthSz(view.width, view.height);
+    if (distorted) {
+      // Same pixel density as the output over the (larger) undistorted rectangle.
+      depthSz = glm::ivec2(std::ceil(vf.pxMax.x - vf.pxMin.x), std::ceil(vf.pxMax.y - vf.pxMin.y));
+      depthSz = glm::min(depthSz, glm::ivec2(limits.maxTextureSize));
+    }
+    ensureViewTargets(depthSz, {view.width, view.height});
+    glBindFramebuffer(GL_FRAMEBUFFER, viewFbo.id());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, viewDepth.id(), 0);
+    const GLenum none = GL_NONE;
+    glDrawBuffers(1, &none);
+    gpu::checkFramebuffer("view depth");
+    glViewport(0, 0, depthSz.x, depthSz.y);
+    drawDepth(ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far);
+
+    if (distorted) uploadIdealLookup(view);
+
+    // Shading pass into the colour target.
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, viewColor.id(), 0);
+    const GLenum color0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &color0);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    gpu::checkFramebuffer("view colour");
+    glViewport(0, 0, view.width, view.height);
+    shadeProgram.use();
+    bindShadeInputs(view, vf, depthSz, distorted, blend);
+
+    RenderOutput out;
+    out.rgba = shade(0, view.width, view.height);
+    if (withCounts) {
+      const Image8 enc = shade(1, view.width, view.height);
+      out.counts = Image16(view.width, view.height, 1);
+      for (int y = 0; y < view.height; ++y)
+        for (int x = 0; x < view.width; ++x)
+          out.counts.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    checkGlError("render");
+    stats.lastFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
+
+  void uploadIdealLookup(const Camera& view) {
+    std::vector<float> lookup(size_t(view.width) * view.height * 4, 0.0f);
+    for (int y = 0; y < view.height; ++y)
+      for (int x = 0; x < view.width; ++x) {
+        float* o = &lookup[(size_t(y) * view.width + x) * 4];
+        if (auto p = view.undistort({x + 0.5, y + 0.5})) {
+          o[0] = float(p->x);
+          o[1] = float(p->y);
+          o[2] = 1.0f;
+        }
+      }
+    lookupTexture = gpu::makeTexture();
+    glActiveTexture(GL_TEXTURE0 + kUnitLookup);
+    glBindTexture(GL_TEXTURE_2D, lookupTexture.id());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, view.width, view.height, 0, GL_RGBA, GL_FLOAT, lookup.data());
+    setNearestClamp(GL_TEXTURE_2D);
+    glActiveTexture(GL_TEXTURE0);
+  }
+
+  void bindShadeInputs(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted,
+                       const ibr::BlendSettings& blend) {
+    const gpu::Program& p = shadeProgram;
+    glActiveTexture(GL_TEXTURE0 + kUnitImages);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitParams);
+    glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
+    glBindTexture(GL_TEXTURE_2D, viewDepth.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitLookup);
+    glBindTexture(GL_TEXTURE_2D, distorted ? lookupTexture.id() : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(p.uniform("u_images"), kUnitImages);
+    glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
+    glUniform1i(p.uniform("u_params"), kUnitParams);
+    glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
+    glUniform1i(p.uniform("u_idealLookup"), kUnitLookup);
+    glUniform1i(p.uniform("u_useLookup"), distorted ? 1 : 0);
+    glUniform2f(p.uniform("u_viewRectMin"), float(vf.pxMin.x), float(vf.pxMin.y));
+    glUniform2f(p.uniform("u_viewRectInvSize"), float(1.0 / (vf.pxMax.x - vf.pxMin.x)),
+                float(1.0 / (vf.pxMax.y - vf.pxMin.y)));
+    glUniform2i(p.uniform("u_viewDepthSize"), depthSz.x, depthSz.y);
+    glUniform1f(p.uniform("u_viewNear"), float(vf.near));
+    glUniform1f(p.uniform("u_viewFar"), float(vf.far));
+    const glm::dvec3 c = view.center - scene.origin;
+    glUniform3f(p.uniform("u_viewCenter"), float(c.x), float(c.y), float(c.z));
+    uploadMat3(p.uniform("u_viewDirFromPix"), glm::transpose(view.camFromWorld) * view.camFromPix());
+    glUniform1i(p.uniform("u_imageCount"), GLint(params.size()));
+    glUniform1i(p.uniform("u_method"), blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+    glUniform1i(p.uniform("u_occlusion"), blend.occlusion ? 1 : 0);
+    glUniform3f(p.uniform("u_background"), float(settings.background.r), float(settings.background.g),
+                float(settings.background.b));
+  }
+
+  Image8 shade(int mode, int w, int h) {
+    glUniform1i(shadeProgram.uniform("u_mode"), mode);
+    glBindVertexArray(emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    Image8 img(w, h, 4);
+    // Offscreen rows are stored top row first (docs/conventions.md): no flip.
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.data.data());
+    checkGlError("shade pass");
+    return img;
+  }
+};
+
+Renderer::Renderer(const Scene& scene, RenderSettings settings, Diagnostics& diag)
+    : impl_(std::make_unique<Impl>(scene, settings, diag)) {
+  impl_->init();
+}
+Renderer::~Renderer() = default;
+RenderOutput Renderer::render(const Camera& view, bool withCounts) { return impl_->render(view, withCounts); }
+const ibr::FramePlan& Renderer::lastPlan() const { return impl_->plan; }
+const std::vector<ibr::ImageParams>& Renderer::lastImageParams() const { return impl_->params; }
+const RenderSettings& Renderer::settings() const { return impl_->settings; }
+RenderSettings& Renderer::settings() { return impl_->settings; }
+ibr::SliceSize Renderer::sliceSize() const { return impl_->sliceSize; }
+int Renderer::sliceCount() const { return impl_->slotCount; }
+const RenderStats& Renderer::stats() const { return impl_->stats; }
+
+}  // namespace hv::render

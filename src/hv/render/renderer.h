@@ -1,0 +1,68 @@
+// The renderer: consumes a FramePlan, moves data to the GPU and runs the passes
+// (DESIGN.md §2 steps 2-5). Needs a current GLES 3.0 context (hv/gpu/context.h); owns no
+// platform code, so the same class serves `render`, `eval`, the viewer and the browser.
+#pragma once
+
+#include "hv/ibr/frame_plan.h"
+#include "hv/ibr/selection.h"
+#include "hv/ibr/slice_image.h"
+#include "hv/image/image.h"
+#include "hv/scene/scene.h"
+#include "hv/util/diagnostics.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace hv::render {
+
+struct RenderSettings {
+  ibr::BlendSettings blend;
+  int depthSize = 1024;               // depth-map resolution (square)
+  glm::dvec3 background{0.0};         // [0, 1] RGB where no image contributes
+  double depthBiasAbsolute = -1.0;    // scene units; < 0: derived from the scene's extent
+  double depthBiasTexels = 2.0;       // plus this many depth-map texel footprints (relative to depth)
+  int maxSliceSize = 2048;            // largest slice side; bigger photographs are scaled down
+  int maxSlices = 256;                // image slots (also capped by MAX_ARRAY_TEXTURE_LAYERS and memory)
+  std::size_t memoryBudgetBytes = std::size_t(1) << 30;  // images + depth maps
+};
+
+struct RenderOutput {
+  Image8 rgba;           // alpha = 255 where some image contributed (coverage)
+  Image16 counts;        // contributing images per pixel (when asked)
+};
+
+struct RenderStats {
+  int depthMapsRendered = 0;
+  int imagesLoaded = 0;
+  double lastFrameMs = 0.0;
+};
+
+class Renderer {
+ public:
+  // Uploads the scene's geometry. Throws std::runtime_error when the context cannot do it.
+  Renderer(const Scene& scene, RenderSettings settings, Diagnostics& diag);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Renders one view (batch: every needed image resident and every depth map current, so the
+  // output is deterministic). A view with distortion is rendered distorted.
+  RenderOutput render(const Camera& view, bool withCounts = false);
+
+  const ibr::FramePlan& lastPlan() const;
+  // The per-image parameters of the last frame, in the order the shader saw them.
+  const std::vector<ibr::ImageParams>& lastImageParams() const;
+  const RenderSettings& settings() const;
+  RenderSettings& settings();  // changes apply from the next frame
+  ibr::SliceSize sliceSize() const;
+  int sliceCount() const;
+  const RenderStats& stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hv::render

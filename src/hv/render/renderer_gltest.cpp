@@ -1,0 +1,286 @@
+// GL tests of the renderer on llvmpipe: the shaders compile, the GL blend equals the CPU
+// reference (hv::ibr::referenceBlend) at sampled pixels, occlusion and masks behave.
+#include "hv/render/renderer.h"
+
+#include "hv/gpu/shader_sources.h"
+#include "hv/ibr/reference_blend.h"
+#include "hv/ibr/slice_image.h"
+#include "hv/render/testing/gl_test_support.h"
+#include "hv/scene/raycast.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace hv::render {
+namespace {
+
+using testing::glContext;
+using testing::kStreetOrigin;
+
+class RendererGlTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    glContext();
+    gpu::clearGlErrors();
+  }
+  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
+
+  // Adds a photograph (written to a temp dir) to the scene.
+  void addPhoto(Scene& s, const Camera& cam, const Image8& image, const Image8* mask = nullptr) {
+    if (dir_.empty()) dir_ = testing::makeTempDir("renderer");
+    Photo p;
+    p.camera = cam;
+    p.imagePath = dir_ + "/" + cam.id + ".png";
+    writePng(p.imagePath, image);
+    if (mask) {
+      p.maskPath = dir_ + "/" + cam.id + ".mask.png";
+      writePng(p.maskPath, *mask);
+    }
+    s.photos.push_back(p);
+  }
+
+  std::string dir_;
+};
+
+TEST_F(RendererGlTest, EveryShaderCompilesAndLinks) {
+  int programs = 0;
+  for (const auto& name : gpu::shaderNames()) {
+    if (name.ends_with(".frag")) {
+      EXPECT_NO_THROW(gpu::Program("fullscreen.vert", name)) << name;
+      ++programs;
+    } else if (name.ends_with(".vert")) {
+      EXPECT_NO_THROW(gpu::Program(name, "depth.frag")) << name;
+      ++programs;
+    }
+  }
+  EXPECT_GE(programs, 4);
+  // Every shader is GLSL ES 3.00 (the WebGL2 subset).
+  for (const auto& name : gpu::shaderNames())
+    if (!name.ends_with(".glsl")) EXPECT_EQ(gpu::findShaderSource(name)->rfind("#version 300 es", 0), 0u) << name;
+}
+
+TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  // Three photographs of the street with different intrinsics, one distorted; sizes differ so one
+  // of them sits padded in its slice.
+  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
+           testing::patternImage(160, 120, 1));
+  Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
+  RadialDistortion d;
+  d.center = {101.0, 74.0};
+  d.c3 = -4e-6;
+  d.r2max = 160.0 * 160.0;
+  b.distortion = d;
+  addPhoto(scene, b, testing::patternImage(200, 150, 2));
+  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
+           testing::patternImage(120, 120, 3));
+
+  Diagnostics diag;
+  RenderSettings settings;
+  settings.blend.k = 3;
+  settings.blend.sigma = 5.0;
+  settings.depthSize = 512;
+  Renderer renderer(scene, settings, diag);
+  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const RenderOutput out = renderer.render(view);
+  ASSERT_TRUE(diag.ok());
+  const auto& params = renderer.lastImageParams();
+  ASSERT_EQ(params.size(), 3u);
+  // The plan's weights follow eq. 2 with no 4th candidate: w_i = f(d_i).
+  for (const auto& im : renderer.lastPlan().images)
+    EXPECT_NEAR(im.weight, 1.0 / (25.0 + im.distance * im.distance), 1e-12);
+
+  // CPU side: the same slices, visibility by ray casting (independent of the GL depth maps).
+  Mesh all = scene.terrain;
+  all.append(scene.buildings);
+  RayCaster caster(all);
+  std::vector<Image8> slices;
+  for (const auto& p : scene.photos) {
+    slices.push_back(ibr::makeSliceImage(p.camera, readImage(p.imagePath), {}, renderer.sliceSize(), p.camera.id));
+  }
+  std::vector<int> sliceOfParam;
+  ibr::TextureLookup tex = [&](int slice, glm::dvec2 uv) {
+    for (size_t i = 0; i < params.size(); ++i)
+      if (params[i].layout.slice == slice) return ibr::sampleBilinear(slices[size_t(renderer.lastPlan().images[i].photo)], uv);
+    ADD_FAILURE() << "unknown slice";
+    return glm::dvec4(0.0);
+  };
+  // A point's visibility from image i is "robust" when the ray casts at +-2 image pixels around its
+  // projection agree; pixels near an occlusion edge (where a 512^2 depth map and an exact ray cast
+  // may legitimately differ) are not compared.
+  bool robust = true;
+  ibr::VisibilityTest visible = [&](size_t i, const glm::dvec3& Pr, double) {
+    const Camera& cam = params[i].camera;
+    const glm::dvec3 P = Pr + scene.origin;
+    auto seen = [&](const glm::dvec3& target) {
+      const glm::dvec3 dir = target - cam.center;
+      const double dist = glm::length(dir);
+      const auto hit = caster.intersect(cam.center, dir, 0.0, dist * 2.0);
+      return hit && hit->t > dist - 0.02 - 1e-3 * dist;
+    };
+    const bool v = seen(P);
+    // At grazing incidence a depth map's texel spans a long stretch of depth, so any shadow map
+    // (with a bias of a few texels) self-shadows there while the exact ray cast does not:
+    // compare only where the photograph sees the surface at more than 15 degrees.
+    const auto direct = caster.intersect(cam.center, P - cam.center, 0.0, 1e9);
+    if (direct && std::abs(glm::dot(direct->normal, glm::normalize(P - cam.center))) < 0.26) robust = false;
+    const Projection p = cam.project(P);
+    for (glm::dvec2 off : {glm::dvec2(2, 0), glm::dvec2(-2, 0), glm::dvec2(0, 2), glm::dvec2(0, -2)}) {
+      const glm::dvec3 dir = cam.rayDirection(p.pxIdeal + off);
+      const auto hit = caster.intersect(cam.center, dir, 0.0, 1e9);
+      if (!hit) continue;
+      if (seen(hit->position) != true || (glm::length(hit->position - P) > 1.0) != false) {
+        // The neighbour ray lands on another surface: occlusion edge nearby.
+        if (glm::dot(hit->normal, caster.intersect(cam.center, P - cam.center, 0.0, 1e9)->normal) < 0.99) robust = false;
+      }
+    }
+    return v;
+  };
+
+  int compared = 0;
+  double maxDiff = 0.0;
+  for (int y = 4; y < view.height; y += 7) {
+    for (int x = 4; x < view.width; x += 7) {
+      const glm::dvec2 px(x + 0.5, y + 0.5);
+      const auto hit = caster.intersect(view.center, view.rayDirection(px), 0.0, 1e9);
+      if (!hit) continue;
+      // Skip depth edges in the view: all four neighbours must hit the same plane.
+      bool flat = true;
+      for (glm::dvec2 off : {glm::dvec2(1.5, 0), glm::dvec2(-1.5, 0), glm::dvec2(0, 1.5), glm::dvec2(0, -1.5)}) {
+        const auto h2 = caster.intersect(view.center, view.rayDirection(px + off), 0.0, 1e9);
+        if (!h2 || glm::dot(h2->normal, hit->normal) < 0.999 ||
+            std::abs(glm::dot(h2->position - hit->position, hit->normal)) > 1e-3)
+          flat = false;
+      }
+      if (!flat) continue;
+      robust = true;
+      const ibr::BlendResult ref =
+          ibr::referenceBlend(hit->position - scene.origin, params, ibr::BlendMethod::Blend, tex, visible);
+      if (!robust) continue;
+      const std::uint8_t* g = out.rgba.px(x, y);
+      EXPECT_EQ(g[3] > 0, ref.covered()) << "coverage differs at " << x << "," << y;
+      if (!ref.covered() || g[3] == 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double diff = std::abs(g[c] / 255.0 - ref.color[c]);
+        if (diff > 4.0 / 255.0)
+          ADD_FAILURE() << "pixel " << x << "," << y << " channel " << c << ": GL " << int(g[c]) << " vs CPU "
+                        << ref.color[c] * 255.0 << " (CPU count " << ref.count << ")";
+        maxDiff = std::max(maxDiff, diff);
+      }
+      ++compared;
+    }
+  }
+  // Tolerance: llvmpipe filters RGBA8 with 8-bit interpolation weights (up to ~1/255 per lerp,
+  // two lerps), the shader projects in float, and the output is rounded to 8 bits.
+  EXPECT_GT(compared, 100);
+  EXPECT_LE(maxDiff, 4.0 / 255.0) << "over " << compared << " pixels";
+}
+
+TEST_F(RendererGlTest, OccludedFacadeGetsNoPixelsFromThePhotograph) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  // Photograph "red" looks at the far building straight through the near one.
+  addPhoto(scene, testing::lookAt("red", o + glm::dvec3(0, -10, 6), o + glm::dvec3(0, 30, 10), 160, 120, 110),
+           testing::solidImage(160, 120, 255, 0, 0));
+  Diagnostics diag;
+  RenderSettings settings;
+  settings.blend.k = 1;
+  settings.depthSize = 512;
+  Renderer renderer(scene, settings, diag);
+  // The view stands between the buildings, facing the far façade.
+  const Camera view = testing::lookAt("v", o + glm::dvec3(0, 20, 6), o + glm::dvec3(0, 30, 8), 160, 120, 80);
+  RenderOutput out = renderer.render(view, true);
+  Mesh all = scene.terrain;
+  all.append(scene.buildings);
+  RayCaster caster(all);
+  const Camera& red = scene.photos[0].camera;
+  int hidden = 0, seen = 0;
+  for (int y = 0; y < view.height; y += 3)
+    for (int x = 0; x < view.width; x += 3) {
+      const auto hit = caster.intersect(view.center, view.rayDirection({x + 0.5, y + 0.5}), 0.0, 1e9);
+      if (!hit || hit->normal.y > -0.9) continue;  // the far façade faces -y
+      if (!red.project(hit->position).inImage) continue;
+      const glm::dvec3 toP = hit->position - red.center;
+      const auto first = caster.intersect(red.center, toP, 0.0, 1e9);
+      const double margin = glm::length(toP) - first->t;
+      if (margin > 1.0) {  // clearly behind the near building from the photograph
+        ++hidden;
+        EXPECT_EQ(out.rgba.at(x, y, 3), 0) << "hidden façade pixel " << x << "," << y << " got the photo";
+        EXPECT_EQ(out.counts.at(x, y, 0), 0);
+      } else if (margin < 1e-3) {
+        ++seen;
+      }
+    }
+  EXPECT_GT(hidden, 50);
+  EXPECT_GT(seen, 0);
+  // The same view without the occlusion test paints the hidden façade red: the test above could fail.
+  renderer.settings().blend.occlusion = false;
+  out = renderer.render(view);
+  int red_ = 0;
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) red_ += out.rgba.at(x, y, 3) > 0 && out.rgba.at(x, y, 0) == 255;
+  EXPECT_GT(red_, hidden);
+}
+
+TEST_F(RendererGlTest, MaskedPixelsAreFilledByAnotherImage) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  const Camera a = testing::lookAt("a", o + glm::dvec3(0, -10, 6), o + glm::dvec3(0, 10, 6), 160, 120, 110);
+  Camera b = a;
+  b.id = "b";
+  b.center += glm::dvec3(0.5, 0, 0);
+  Image8 mask(160, 120, 1, 255);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 80; ++x) mask.at(x, y, 0) = 0;  // left half of "a" is a moving object
+  addPhoto(scene, a, testing::solidImage(160, 120, 255, 0, 0), &mask);
+  addPhoto(scene, b, testing::solidImage(160, 120, 0, 255, 0));
+  Diagnostics diag;
+  RenderSettings settings;
+  settings.blend.k = 2;
+  settings.blend.sigma = 1.0;
+  Renderer renderer(scene, settings, diag);
+  const RenderOutput out = renderer.render(a, true);
+  // Left half: only "b" (pure green), a hole in "a" filled; right half: a blend dominated by "a"
+  // (nearer, so heavier), still with some green.
+  // Row 90 is ground, seen by both photographs.
+  const std::uint8_t* left = out.rgba.px(40, 90);
+  const std::uint8_t* right = out.rgba.px(120, 90);
+  EXPECT_EQ(left[3], 255);
+  EXPECT_LE(left[0], 1);
+  EXPECT_GE(left[1], 254);
+  EXPECT_EQ(out.counts.at(40, 90, 0), 1);
+  EXPECT_EQ(out.counts.at(120, 90, 0), 2);
+  EXPECT_GT(right[0], right[1]);
+  EXPECT_GT(right[1], 0);
+}
+
+TEST_F(RendererGlTest, BrokenImageIsReportedAndTheRestRenders) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  const Camera a = testing::lookAt("good", o + glm::dvec3(0, -10, 6), o + glm::dvec3(0, 10, 6), 80, 60, 55);
+  Camera b = a;
+  b.id = "broken";
+  b.center += glm::dvec3(0.1, 0, 0);
+  addPhoto(scene, a, testing::solidImage(80, 60, 0, 0, 255));
+  addPhoto(scene, b, testing::solidImage(80, 60, 255, 0, 0));
+  {
+    std::ofstream f(scene.photos[1].imagePath, std::ios::trunc);
+    f << "not a png";
+  }
+  Diagnostics diag;
+  RenderSettings settings;
+  settings.blend.k = 2;
+  Renderer renderer(scene, settings, diag);
+  const RenderOutput out = renderer.render(b);
+  ASSERT_EQ(diag.errors.size(), 1u);
+  EXPECT_NE(diag.errors[0].find("broken"), std::string::npos) << diag.errors[0];
+  EXPECT_NE(diag.errors[0].find("image"), std::string::npos) << diag.errors[0];
+  EXPECT_EQ(out.rgba.at(40, 30, 2), 255);  // the good photograph textures the view
+  EXPECT_EQ(renderer.lastPlan().images.size(), 1u);
+}
+
+}  // namespace
+}  // namespace hv::render

@@ -1,0 +1,98 @@
+// Shared by the *_gltest files: one headless context for the whole test binary, temporary
+// directories, and a small synthetic street (ground, a near and a far building) whose photographs
+// are arbitrary patterns: the GL-vs-CPU tests need any image, not a consistent one.
+#pragma once
+
+#include "hv/gpu/context.h"
+#include "hv/gpu/gl.h"
+#include "hv/image/image.h"
+#include "hv/scene/lod1.h"
+#include "hv/scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace hv::testing {
+
+// The context lives as long as the test binary; created on first use.
+inline gpu::Context& glContext() {
+  static std::unique_ptr<gpu::Context> ctx = gpu::createHeadlessContext();
+  ctx->makeCurrent();
+  return *ctx;
+}
+
+inline std::string makeTempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("histoview-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+// A camera at `center` (world) looking towards `target`, z up, pinhole.
+inline Camera lookAt(const std::string& id, glm::dvec3 center, glm::dvec3 target, int w, int h, double focal) {
+  Camera c;
+  c.id = id;
+  c.width = w;
+  c.height = h;
+  c.center = center;
+  const glm::dvec3 z = glm::normalize(target - center);
+  const glm::dvec3 x = glm::normalize(glm::cross(z, glm::dvec3(0, 0, 1)));
+  const glm::dvec3 y = glm::cross(z, x);  // down
+  // Rows of R are the camera axes in world coordinates.
+  c.camFromWorld = glm::transpose(glm::dmat3(x, y, z));
+  c.focal = {focal, focal};
+  c.principal = {w / 2.0, h / 2.0};
+  return c;
+}
+
+// A smooth pattern distinct per seed (texels vary across the image, so misplaced lookups show).
+inline Image8 patternImage(int w, int h, int seed) {
+  Image8 img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double v = 0.5 + 0.25 * std::sin(0.11 * x * (c + 1) + seed) + 0.25 * std::cos(0.07 * y * (3 - c) + 2 * seed);
+        img.at(x, y, c) = std::uint8_t(std::lround(255.0 * std::clamp(v, 0.0, 1.0)));
+      }
+  return img;
+}
+
+inline Image8 solidImage(int w, int h, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  Image8 img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      img.at(x, y, 0) = r;
+      img.at(x, y, 1) = g;
+      img.at(x, y, 2) = b;
+    }
+  return img;
+}
+
+inline const glm::dvec3 kStreetOrigin{651000.0, 6862000.0, 40.0};
+
+// Ground 120 x 120 m at z = 40; a near building (x -5..5, y 10..14, 12 m) in front of a far one
+// (x -15..15, y 30..34, 20 m), seen from cameras around y = -10.
+inline Scene streetScene() {
+  Scene s;
+  s.origin = kStreetOrigin;
+  const glm::dvec3 o = kStreetOrigin;
+  s.terrain.positions = {o + glm::dvec3(-60, -60, 0), o + glm::dvec3(60, -60, 0), o + glm::dvec3(60, 60, 0),
+                         o + glm::dvec3(-60, 60, 0)};
+  s.terrain.triangles = {{0, 1, 2}, {0, 2, 3}};
+  auto box = [&](const std::string& id, double x0, double x1, double y0, double y1, double h) {
+    Footprint f;
+    f.id = id;
+    f.rings = {{{o.x + x0, o.y + y0}, {o.x + x1, o.y + y0}, {o.x + x1, o.y + y1}, {o.x + x0, o.y + y1}}};
+    return extrudeLod1(f, o.z, o.z + h);
+  };
+  s.buildings = box("near", -5, 5, 10, 14, 12);
+  s.buildings.append(box("far", -15, 15, 30, 34, 20));
+  return s;
+}
+
+}  // namespace hv::testing

@@ -1,0 +1,39 @@
+// LOD1 buildings: 2D footprints extruded into vertical walls and a flat roof.
+// Roofs are triangulated with their holes by GEOS's constrained Delaunay triangulation
+// (no hand-written triangulator). GEOS is only used inside lod1.cpp.
+#pragma once
+
+#include "hv/scene/heightfield.h"
+#include "hv/scene/mesh.h"
+#include "hv/util/diagnostics.h"
+
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hv {
+
+struct Footprint {
+  std::string id;                                // feature id, for messages
+  std::vector<std::vector<glm::dvec2>> rings;    // rings[0] outer, the rest holes; not closed (no repeated first point)
+  std::optional<double> height;                  // metres above the base
+  std::optional<double> base;                    // absolute elevation of the base
+  std::optional<double> top;                     // absolute elevation of the roof
+  std::optional<std::string> validFrom, validTo; // ISO dates (time filtering, later)
+};
+
+// Closed, outward-oriented prism: floor (down-facing), roof (up-facing), walls. The floor is
+// included so the mesh is closed (volumes check out); it costs little and is never seen.
+// Throws InputError (naming the footprint id) for a footprint that is invalid (self-intersecting,
+// fewer than 3 distinct points, zero area) or when topZ <= baseZ.
+Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ);
+
+// All buildings of a layer. Base: `base` attribute, else the lowest terrain elevation under the
+// footprint (when a terrain is given), else 0 with a warning. Top: `top`, else base + height.
+// A footprint that cannot be built is skipped with a warning naming its id; the rest is built.
+// Triangle tags are the footprint's index in `footprints`.
+Mesh buildLod1(const std::vector<Footprint>& footprints, const Heightfield* terrain, Diagnostics& diag);
+
+}  // namespace hv

@@ -1,0 +1,36 @@
+// A loaded scene: the geometry (terrain, LOD1 buildings) and the photographs with their cameras.
+// Everything is in the world frame (the scene CRS); `origin` is the render origin subtracted
+// before anything goes to the GPU.
+#pragma once
+
+#include "hv/camera/camera.h"
+#include "hv/scene/mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace hv {
+
+struct Photo {
+  Camera camera;
+  std::string imagePath;  // absolute or relative to the working directory (resolved at load)
+  std::string maskPath;   // empty: no mask
+  std::string date;       // ISO 8601 as given; empty: undated
+};
+
+struct Scene {
+  std::string path;        // scene.json
+  std::string crs;         // informative
+  glm::dvec3 origin{0.0};  // render origin (world)
+  glm::dvec3 up{0.0, 0.0, 1.0};
+  Mesh terrain;
+  Mesh buildings;
+  std::vector<Photo> photos;
+
+  Aabb bounds() const;  // geometry and camera centres
+  // Median distance from each camera centre to its nearest other centre: the scene's own scale
+  // for default distances (sigma, depth bias). 1.0 when there are fewer than two cameras.
+  double cameraSpacing() const;
+};
+
+}  // namespace hv

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages histoview needs to build and test. Idempotent: installs only
+# what is missing, and runs `apt-get update` only when something is.
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++ pkg-config
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri   # headless GLES 3 (EGL + Mesa llvmpipe)
+  libgdal-dev libproj-dev libgeos-dev                   # rasters, vectors, CRSs; LOD1 triangulation
+  libembree-dev                                         # CPU ray casting (demo ground truth, tests)
+  libglm-dev libeigen3-dev nlohmann-json3-dev libnanoflann-dev libcli11-dev
+  libstb-dev libpng-dev
+  libgtest-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+echo "installing: ${missing[*]}"
+sudo_=""
+if [[ $(id -u) -ne 0 ]]; then sudo_="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo_ apt-get update -qq
+$sudo_ apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
