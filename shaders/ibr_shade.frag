@@ -35,25 +35,37 @@ void writeBackground() {
   o_color = u_mode == 1 ? vec4(0.0) : vec4(u_background, 0.0);
 }
 
+// Depth-map test with a slope-scaled bias: within one depth-map texel, a surface seen at angle
+// theta from its normal spans footprint * tan(theta) of depth, so the bias grows with tan(theta)
+// (clamped). `n` is the surface normal, `toP` the unit direction from the photograph to P.
+// Twin of hv::ibr::shadowBias (src/hv/ibr/frame_plan.h).
+float hv_shadowBias(HvImage im, float z, vec3 n, vec3 toP) {
+  float c = max(abs(dot(n, toP)), 0.1);
+  float tanTheta = sqrt(max(1.0 - c * c, 0.0)) / c;
+  return im.biasAbs + im.biasRel * z * (1.0 + tanTheta);
+}
+
 void main() {
+  // Everything up to the normal runs in uniform control flow: derivatives are only defined there.
   vec2 pIdeal = gl_FragCoord.xy;
+  bool background = false;
   if (u_useLookup) {
     vec4 l = texelFetch(u_idealLookup, ivec2(gl_FragCoord.xy), 0);
-    if (l.z < 0.5) {  // outside the distortion domain
-      writeBackground();
-      return;
-    }
+    background = l.z < 0.5;  // outside the distortion domain
     pIdeal = l.xy;
   }
   vec2 t = (pIdeal - u_viewRectMin) * u_viewRectInvSize;
   ivec2 dpix = clamp(ivec2(floor(t * vec2(u_viewDepthSize))), ivec2(0), u_viewDepthSize - 1);
   float d = texelFetch(u_viewDepth, dpix, 0).r;
-  if (d >= 1.0) {
+  background = background || d >= 1.0;
+  float zView = mix(u_viewNear, u_viewFar, d);
+  vec3 P = u_viewCenter + zView * (u_viewDirFromPix * vec3(pIdeal, 1.0));
+  vec3 n = cross(dFdx(P), dFdy(P));
+  n = dot(n, n) > 0.0 ? normalize(n) : vec3(0.0, 0.0, 1.0);
+  if (background) {
     writeBackground();
     return;
   }
-  float zView = mix(u_viewNear, u_viewFar, d);
-  vec3 P = u_viewCenter + zView * (u_viewDirFromPix * vec3(pIdeal, 1.0));
 
   vec3 sum = vec3(0.0);
   float alpha = 0.0;
@@ -66,7 +78,7 @@ void main() {
     if (u_occlusion) {
       vec2 dt = (p - im.depthMin) * im.depthInvSize;
       float zMap = mix(im.near, im.far, texture(u_depthMaps, vec3(dt, im.slice)).r);
-      if (z > zMap + im.biasAbs + im.biasRel * z) continue;  // shadowed (Brédif 2013 §2.2)
+      if (z > zMap + hv_shadowBias(im, z, n, normalize(P - im.C))) continue;  // shadowed (Brédif 2013 §2.2)
     }
     vec4 texel = textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0);
     if (texel.a <= 0.0) continue;

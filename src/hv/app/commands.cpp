@@ -1,5 +1,7 @@
 #include "hv/app/commands.h"
 
+#include "hv/app/demo_command.h"
+#include "hv/app/eval_command.h"
 #include "hv/app/render_command.h"
 
 #include <CLI/CLI.hpp>
@@ -13,6 +15,8 @@ int g_exit = 0;
 void registerCommands(CLI::App& app) {
   addInfoCommand(app, g_exit);
   addRenderCommand(app, g_exit);
+  addEvalCommand(app, g_exit);
+  addDemoCommand(app, g_exit);
 }
 
 int exitCode() { return g_exit; }

@@ -48,11 +48,7 @@ glm::dvec3 parseColour(const std::string& s) {
 Camera resizeView(const Camera& view, const std::string& size) {
   if (size.empty()) return view;
   const glm::ivec2 wh = parseSize(size);
-  const double s = double(wh.x) / view.width;
-  if (std::abs(view.height * s - wh.y) > 1.0)
-    throw std::invalid_argument("--size " + size + ": view '" + view.id + "' is " + std::to_string(view.width) +
-                                "x" + std::to_string(view.height) + ", a different aspect ratio");
-  return view.scaled(s, wh.x, wh.y);
+  return view.resized(wh.x, wh.y);
 }
 
 render::RenderSettings renderSettings(const ViewOptions& o) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace hv {
 
@@ -101,6 +102,16 @@ Camera Camera::scaled(double s, int newWidth, int newHeight) const {
     d.r2max *= s * s;
   }
   return c;
+}
+
+Camera Camera::resized(int newWidth, int newHeight) const {
+  if (newWidth == width && newHeight == height) return *this;
+  const double s = double(newWidth) / width;
+  if (newWidth <= 0 || newHeight <= 0 || std::abs(height * s - newHeight) > 1.0)
+    throw std::invalid_argument("camera '" + id + "' is " + std::to_string(width) + "x" + std::to_string(height) +
+                                ", cannot be resized to " + std::to_string(newWidth) + "x" +
+                                std::to_string(newHeight) + " (a different aspect ratio)");
+  return scaled(s, newWidth, newHeight);
 }
 
 glm::dmat3 orthonormalize(const glm::dmat3& m) {

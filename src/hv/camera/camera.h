@@ -70,6 +70,9 @@ class Camera {
   // The camera with its intrinsics scaled by `s` (image size, focal, principal point, distortion);
   // used by `render --size`.
   Camera scaled(double s, int newWidth, int newHeight) const;
+  // The camera at another output size, intrinsics scaled uniformly. Throws std::invalid_argument
+  // naming the camera when the aspect ratio differs by more than a pixel.
+  Camera resized(int newWidth, int newHeight) const;
 };
 
 // Checks a camera's fields (finite values, positive focal and size, orthonormal rotation) and

@@ -74,13 +74,54 @@ glm::dmat4 clipFromRender(const Camera& cam, const PinholeFrustum& fr, const glm
   return proj * camFromRender;
 }
 
-FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& s) {
+std::vector<glm::dvec3> viewFrustumSamples(const Camera& view, const Aabb& b, int nx, int ny, int nz) {
+  std::vector<glm::dvec3> out;
+  if (b.empty()) return out;
+  const PinholeFrustum rect = idealRectCoveringImage(view);
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const glm::dvec2 px = glm::mix(rect.pxMin, rect.pxMax, glm::dvec2((i + 0.5) / nx, (j + 0.5) / ny));
+      const glm::dvec3 dir = view.rayDirection(px);  // camera z = 1: t is the depth
+      // Slab test: the ray's interval inside the box.
+      double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+      for (int a = 0; a < 3; ++a) {
+        if (std::abs(dir[a]) < 1e-15) {
+          if (view.center[a] < b.lo[a] || view.center[a] > b.hi[a]) t1 = -1.0;
+          continue;
+        }
+        double ta = (b.lo[a] - view.center[a]) / dir[a], tb = (b.hi[a] - view.center[a]) / dir[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+      }
+      if (!(t1 > t0)) continue;
+      const double start = std::max(t0, 1e-3 * t1);
+      for (int k = 0; k < nz; ++k) {
+        const double t = start * std::pow(t1 / start, (k + 0.5) / nz);
+        out.push_back(view.center + t * dir);
+      }
+    }
+  }
+  return out;
+}
+
+bool seesAnySample(const Camera& photo, const std::vector<glm::dvec3>& samples) {
+  for (const auto& p : samples)
+    if (photo.project(p).inImage) return true;
+  return false;
+}
+
+FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& s,
+                    const Aabb& bounds) {
   FramePlan plan;
   plan.view = view;
   plan.settings = s;
   plan.sigma = s.sigma > 0.0 ? s.sigma : scene.cameraSpacing();
+  const std::vector<glm::dvec3> samples = s.frustumFilter ? viewFrustumSamples(view, bounds) : std::vector<glm::dvec3>{};
   auto keep = [&](int i) {
-    return std::find(s.exclude.begin(), s.exclude.end(), scene.photos[size_t(i)].camera.id) == s.exclude.end();
+    const Camera& cam = scene.photos[size_t(i)].camera;
+    if (std::find(s.exclude.begin(), s.exclude.end(), cam.id) != s.exclude.end()) return false;
+    return !s.frustumFilter || seesAnySample(cam, samples);
   };
   const auto cands = index.nearest(view.center, size_t(std::max(s.k, 0)) + 1, keep);
   std::vector<double> d;
@@ -89,6 +130,11 @@ FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& 
   for (size_t i = 0; i < w.size(); ++i) plan.images.push_back({cands[i].photo, cands[i].distance, w[i]});
   plan.nextDistance = cands.size() > w.size() ? cands[w.size()].distance : -1.0;
   return plan;
+}
+
+double shadowBias(const DepthBias& b, double z, double cosIncidence) {
+  const double c = std::max(std::abs(cosIncidence), 0.1);
+  return b.absolute + b.relative * z * (1.0 + std::sqrt(std::max(1.0 - c * c, 0.0)) / c);
 }
 
 ImageParams makeImageParams(const Camera& cam, const glm::dvec3& origin, const SliceLayout& layout, double weight,

@@ -23,7 +23,18 @@ struct BlendSettings {
   bool occlusion = true;      // depth-map (shadow) test
   bool masks = true;
   std::vector<std::string> exclude;  // photo ids left out (leave-one-out)
+  // Only photographs that see part of the view frustum (clipped to the scene bounds) are
+  // candidates, so the K slots go to images that can texture the view (DESIGN.md §2 step 1).
+  bool frustumFilter = true;
 };
+
+// Sample points of the view frustum clipped to `bounds`: rays through an nx x ny grid over the
+// image, at nz depths spaced geometrically from where each ray enters the bounds to where it
+// leaves them. Empty when the view sees none of the bounds.
+std::vector<glm::dvec3> viewFrustumSamples(const Camera& view, const Aabb& bounds, int nx = 9, int ny = 7,
+                                           int nz = 8);
+// True when some sample projects inside the photograph's image.
+bool seesAnySample(const Camera& photo, const std::vector<glm::dvec3>& samples);
 
 // The pinhole frustum a depth map (or the view's geometry pass) is rendered with: the ideal
 // (undistorted) pixel rectangle that covers the whole distorted image, and the depth range.
@@ -58,7 +69,9 @@ struct FramePlan {
   BlendSettings settings;
 };
 
-FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& settings);
+// `bounds` clips the view frustum for the frustum filter (usually the scene's geometry bounds).
+FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& settings,
+                    const Aabb& bounds);
 
 // Where a photograph sits in the image texture array.
 struct SliceLayout {
@@ -80,6 +93,11 @@ struct DepthBias {
   double absolute = 0.0;  // scene units
   double relative = 0.0;  // times the depth
 };
+
+// Slope-scaled shadow bias (scene units) for a point at depth z seen at `cosIncidence` =
+// |n . (P - C_i)/|P - C_i|| by the photograph: absolute + relative * z * (1 + tan(theta)), with
+// cos clamped at 0.1. Twin of hv_shadowBias in shaders/ibr_shade.frag.
+double shadowBias(const DepthBias& bias, double z, double cosIncidence);
 
 struct ImageParams {
   glm::dmat3 pixFromWorld{1.0};

@@ -194,3 +194,46 @@ TEST(SampleBilinear, MatchesTexelCentres) {
 
 }  // namespace
 }  // namespace hv::ibr
+
+namespace hv::ibr {
+namespace {
+
+TEST(ShadowBias, GrowsWithTheTangentOfIncidence) {
+  const DepthBias b{0.05, 0.002};
+  EXPECT_DOUBLE_EQ(shadowBias(b, 10.0, 1.0), 0.05 + 0.02);              // facing: tan 0
+  EXPECT_NEAR(shadowBias(b, 10.0, std::cos(M_PI / 4)), 0.05 + 0.04, 1e-12);  // 45 degrees: tan 1
+  EXPECT_NEAR(shadowBias(b, 10.0, 0.0), 0.05 + 0.02 * (1.0 + std::sqrt(0.99) / 0.1), 1e-12);  // clamped
+}
+
+}  // namespace
+}  // namespace hv::ibr
+
+namespace hv::ibr {
+namespace {
+
+TEST(FrustumFilter, KeepsPhotographsThatSeeTheView) {
+  Aabb street;
+  street.extend({-20, 0, 0});
+  street.extend({20, 60, 15});
+  // The view looks along +y into the street from its south end.
+  const Camera view = testCamera({0, -2, 1.7});
+  const auto samples = viewFrustumSamples(view, street);
+  ASSERT_FALSE(samples.empty());
+  for (const auto& p : samples) {
+    EXPECT_TRUE(view.project(p).inImage);
+    EXPECT_GE(p.y, -1e-9);  // inside the bounds
+    EXPECT_LE(p.z, 15.0 + 1e-9);
+  }
+  // Same direction, a few metres ahead: sees the same street.
+  EXPECT_TRUE(seesAnySample(testCamera({2, 5, 1.7}), samples));
+  // Turned around (looking along -y, out of the street): sees none of it.
+  Camera away = testCamera({0, -3, 1.7});
+  const double r[9] = {-1, 0, 0, 0, 0, -1, 0, -1, 0};
+  away.camFromWorld = mat3FromRowMajor(r);
+  EXPECT_FALSE(seesAnySample(away, samples));
+  // A view outside the bounds looking away from them samples nothing.
+  EXPECT_TRUE(viewFrustumSamples(away, street).empty());
+}
+
+}  // namespace
+}  // namespace hv::ibr

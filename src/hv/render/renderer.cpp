@@ -53,7 +53,8 @@ struct Renderer::Impl {
   gpu::VertexArray meshVao, emptyVao;
   gpu::Buffer vertexBuffer, indexBuffer;
   GLsizei indexCount = 0;
-  Aabb bounds;
+  Aabb bounds;          // geometry and camera centres: depth ranges
+  Aabb geometryBounds;  // geometry only: the frustum filter
 
   // Slots: slice i of both arrays belongs to slotPhoto[i].
   ibr::SliceSize sliceSize;
@@ -109,6 +110,7 @@ struct Renderer::Impl {
       for (const auto& t : m->triangles) indices.insert(indices.end(), {t.x + base, t.y + base, t.z + base});
       bounds.extend(m->bounds());
     }
+    geometryBounds = bounds;
     for (const auto& p : scene.photos) bounds.extend(p.camera.center);
     indexCount = GLsizei(indices.size());
     meshVao = gpu::makeVertexArray();
@@ -311,7 +313,7 @@ struct Renderer::Impl {
     std::vector<int> slots;
     for (int attempt = 0;; ++attempt) {
       blend.exclude = excludedIds();
-      plan = ibr::planFrame(scene, index, view, blend);
+      plan = ibr::planFrame(scene, index, view, blend, geometryBounds);
       std::vector<bool> pinned(size_t(slotCount), false);
       for (const auto& im : plan.images)
         if (auto it = photoSlot.find(im.photo); it != photoSlot.end()) pinned[size_t(it->second)] = true;

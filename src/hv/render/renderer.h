@@ -22,7 +22,7 @@ struct RenderSettings {
   int depthSize = 1024;               // depth-map resolution (square)
   glm::dvec3 background{0.0};         // [0, 1] RGB where no image contributes
   double depthBiasAbsolute = -1.0;    // scene units; < 0: derived from the scene's extent
-  double depthBiasTexels = 2.0;       // plus this many depth-map texel footprints (relative to depth)
+  double depthBiasTexels = 1.5;       // plus this many depth-map texel footprints, slope-scaled (ibr::shadowBias)
   int maxSliceSize = 2048;            // largest slice side; bigger photographs are scaled down
   int maxSlices = 256;                // image slots (also capped by MAX_ARRAY_TEXTURE_LAYERS and memory)
   std::size_t memoryBudgetBytes = std::size_t(1) << 30;  // images + depth maps

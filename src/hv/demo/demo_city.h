@@ -1,0 +1,235 @@
+// The demo city: a deterministic synthetic scene with known ground truth (issue 2, "The demo city";
+// issue 4 point 8 will scan the same World with a simulated lidar).
+//
+// What is generated, in world coordinates of EPSG:2154 (Lambert-93, metres, z up) around
+// (651000, 6862000):
+// - a smooth terrain with a few metres of relief, sampled into a 2 m DTM (the renderer's input);
+// - streets on a regular grid (asphalt carriageway with dashed centre lines, paved sidewalks raised by
+//   a kerb), blocks of two rows of lots, one building per used lot with a concave footprint (L, U, T,
+//   notched, stepped) and at least one courtyard (a footprint hole);
+// - a ground-truth geometry richer than the LOD1 model: recessed windows and doors, balconies,
+//   kerbs; roofs flat at the LOD1 height so that LOD1 is a fair approximation;
+// - trees and parked cars that stand in today's city (for the lidar) but appear in no image;
+// - photographs rendered by ray casting that ground truth (plus moving cars in some of them, masked
+//   in a few), with varied intrinsics, a few with radial distortion and a few with an era colour
+//   cast; held-out views rendered the same way without transients: the evaluation ground truth.
+// The ground-truth colour of a surface point is `shade()`: procedural albedo (a function of the
+// world position and the surface) under a fixed, view-independent lighting, so that blending
+// several photographs can reproduce it.
+//
+// Everything is a pure function of DemoOptions (own PRNG, no std distributions), so two runs give
+// byte-identical files.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hv/camera/camera.h"
+#include "hv/image/image.h"
+#include "hv/scene/heightfield.h"
+#include "hv/scene/lod1.h"
+#include "hv/scene/mesh.h"
+#include "hv/scene/raycast.h"
+
+namespace hv::demo {
+
+// Tuning constants of the city and of its photographs (metres, degrees where named so).
+struct CitySettings {
+  glm::dvec2 originXY{651000.0, 6862000.0};  // EPSG:2154, a spot in Paris's western suburbs
+  double baseElevation = 38.0;               // terrain mean, metres
+  // Layout: blocks of 2 rows x `lotsPerRow` lots, separated by streets.
+  int lotsPerRow = 3;
+  double lotWidth = 18.0, lotDepth = 17.0;  // nominal lot size; split positions vary per block
+  double sidewalkWidth = 3.0, roadWidth = 8.0, kerbHeight = 0.15;
+  double margin = 24.0;          // grass around the street grid
+  double groundCell = 1.0;       // ground-truth terrain tessellation
+  double dtmCell = 2.0;          // DTM grid spacing
+  double reliefAmplitude = 1.8;  // metres, terrain undulations
+  // Buildings.
+  double minHeight = 8.0, maxHeight = 25.0;
+  double buildingGap = 0.8;  // half the passage between neighbouring buildings
+  double floorHeight = 3.1;
+  double windowWidth = 1.2, windowHeight = 1.5, sillHeight = 0.9, bayWidth = 3.2;
+  double doorWidth = 1.2, doorHeight = 2.4;
+  double recessDepth = 0.3;  // windows and doors, into the wall
+  double balconyDepth = 1.0, balconyThickness = 0.15, balconyParapet = 0.95;
+  double balconyProbability = 0.45;  // per building with street façades
+  // Transients.
+  double treeSpacing = 11.0;
+  int parkedCarsPerStreet = 3;
+  // Lighting baked into the ground truth: Lambert under a fixed sun plus a sky ambient term.
+  double sunAzimuthDeg = 135.0, sunElevationDeg = 42.0;  // azimuth counter-clockwise from +x (east)
+  double ambient = 0.42, diffuse = 0.62;
+  glm::dvec3 skyColor{0.70, 0.80, 0.90};  // background of photos and views (coverage 0)
+  // Cameras.
+  double streetEyeMin = 1.6, streetEyeMax = 2.0;  // above the ground under the camera
+  double elevatedMin = 15.0, elevatedMax = 40.0;
+  double walkStep = 6.0;             // spacing of successive street-level shots
+  double minBuildingFraction = 0.3;  // of a coarse ray grid, for a camera to be accepted
+  double maxSkyFraction = 0.6;
+  // A camera is rejected when more than maxCloseFraction of that grid hits closer than this (metres):
+  // a wall filling the frame shows too little of the city.
+  double streetCloseDistance = 4.0, elevatedCloseDistance = 12.0, maxCloseFraction = 0.15;
+  // Distortion: displacement at the image corner, pixels (p_d - p).
+  double distortionCornerMin = 6.0, distortionCornerMax = 15.0;
+  double maskDilation = 2.0;  // pixels (Chebyshev), around car pixels
+};
+
+struct DemoOptions {
+  std::uint32_t seed = 1;
+  int buildings = 40;
+  int photos = 36;
+  int views = 8;
+  int samplesPerAxis = 2;  // supersampling: samplesPerAxis^2 rays per pixel
+  CitySettings city;
+};
+
+// Material ids: the ground-truth mesh's Mesh::triangleTags.
+enum class Material : std::uint32_t {
+  Grass = 0,
+  Asphalt,
+  Paving,
+  Kerb,
+  Plaster,
+  Brick,
+  Stone,
+  Glass,
+  Reveal,
+  Door,
+  Balcony,
+  RoofGravel,
+  RoofTiles,
+  TreeTrunk,
+  TreeCrown,
+  CarBody,
+  CarGlass,
+  CarWheel,
+  Count
+};
+const char* materialName(Material m);
+// ASPRS LAS 1.4 class for a material (2 ground, 5 high vegetation, 6 building, 1 unclassified for
+// vehicles, which have no class of their own in the base table), for the later lidar simulation.
+std::uint8_t asprsClass(Material m);
+
+// One textured surface: a material with the local frame its pattern is drawn in. `origin`, `u`
+// (along), `w` (up the pattern) are world; `size` the extent in (u, w) where it matters (windows,
+// doors); `tint` per building or car.
+struct Surface {
+  Material material = Material::Grass;
+  int building = -1;
+  glm::dvec3 origin{0.0}, u{1.0, 0.0, 0.0}, w{0.0, 0.0, 1.0};
+  glm::dvec2 size{0.0};
+  glm::dvec3 tint{1.0};
+  std::uint32_t variant = 0;  // pattern variant (dash phase, brick bond, ...)
+};
+
+// A triangle mesh whose triangles each point to a Surface; Mesh::triangleTags hold the material.
+struct Layer {
+  Mesh mesh;
+  std::vector<std::uint32_t> surfaceOf;  // per triangle, index into `surfaces`
+  std::vector<Surface> surfaces;
+  void append(const Layer& other);
+};
+
+struct Street {
+  bool alongX = true;           // centre line parallel to x (else to y)
+  double centre = 0.0;          // y (alongX) or x of the centre line, world
+  double from = 0.0, to = 0.0;  // extent along the line, world
+};
+
+struct Building {
+  std::string id;
+  std::vector<std::vector<glm::dvec2>> rings;  // world, outer CCW then holes CW
+  double height = 0.0;                         // LOD1 attribute
+  double baseZ = 0.0;  // LOD1 base: the DTM's minimum under the footprint (as the renderer computes it)
+  double topZ = 0.0;   // roof, = baseZ + height, also the ground-truth roof
+  double groundFloorZ = 0.0;
+  int floors = 0;
+  bool courtyard = false;
+};
+
+struct World {
+  DemoOptions options;
+  glm::dvec3 origin{0.0};  // world point the procedural patterns are computed relative to
+  Layer truth;             // terrain, kerbs, buildings with openings and balconies: photos and views
+  Layer trees;             // today's city only: in no photo and no view
+  Layer parkedCars;        // today's city only: in no photo and no view
+  std::vector<Footprint> footprints;  // the LOD1 inputs given to the renderer (buildings.geojson)
+  std::vector<Building> buildings;
+  std::vector<Street> streets;
+  Heightfield dtm;                         // the renderer's terrain (dtm.tif)
+  Aabb cityBounds;                         // the street grid (cameras stay inside)
+  glm::dvec3 sunDirection{0.0, 0.0, 1.0};  // towards the sun, unit
+  std::array<double, 3> phase{};           // terrain undulation phases (seeded)
+  double streetWidth = 0.0, roadWidth = 0.0, kerbHeight = 0.0;
+
+  // The continuous terrain the ground truth is built on (the DTM samples it).
+  double terrainZ(double x, double y) const;
+  // Ground surface height (terrain plus the kerb on sidewalks).
+  double groundZ(double x, double y) const;
+  bool onRoad(double x, double y) const;
+  bool onSidewalk(double x, double y) const;  // paved, raised by the kerb (crossings' corners included)
+  bool insideBuilding(double x, double y) const;
+};
+
+World buildWorld(const DemoOptions& options);
+
+// Ground-truth colour (linear in [0,1], the value written to 8-bit images after clamping and
+// rounding) of a surface point: procedural albedo under the fixed lighting. `hit` must come from
+// a ray cast against `layer.mesh`.
+glm::dvec3 shade(const World& world, const Layer& layer, const RayHit& hit);
+// Same for a hit on World::truth.
+glm::dvec3 shade(const World& world, const RayHit& hit);
+
+// Era colour casts applied to a whole photograph after rendering.
+enum class EraCast { None, Sepia, Faded, Cyanotype };
+glm::dvec3 applyCast(EraCast cast, glm::dvec3 rgb);
+
+struct Shot {
+  Camera camera;
+  std::string date;  // ISO 8601, photographs only
+  bool elevated = false;
+  bool masked = false;  // writes a mask over its cars
+  EraCast cast = EraCast::None;
+  Layer cars;  // moving cars seen by this photograph only
+};
+
+struct ShotPlan {
+  std::vector<Shot> photos;
+  std::vector<Shot> views;  // held out: no cars, no cast, no distortion
+};
+
+// Chooses every camera (and the cars of each photograph). `caster` is built on world.truth.mesh.
+ShotPlan planShots(const World& world, const RayCaster& caster);
+
+// The ray for a sample at distorted pixel position pxDistorted: through the ideal pixel
+// camera.undistort(pxDistorted) (the CPU warp, independent of any shader). nullopt where the
+// distortion cannot be inverted. Returns a unit world direction.
+std::optional<glm::dvec3> sampleRay(const Camera& camera, glm::dvec2 pxDistorted);
+
+struct Rendered {
+  Image8 color;     // RGB
+  Image8 coverage;  // 255 where every sample of the pixel hit a surface, else 0
+  Image8 mask;      // 0 on car pixels dilated by CitySettings::maskDilation, 255 elsewhere
+};
+
+// Ray casts a shot (world.truth plus the shot's cars): samplesPerAxis^2 samples per pixel on a
+// regular sub-grid, averaged; rows shared among all cores. The era cast is applied last.
+Rendered renderShot(const World& world, const RayCaster& truthCaster, const Shot& shot, int samplesPerAxis);
+
+struct DemoSummary {
+  std::string scenePath, viewsPath, truthDir;
+  int photos = 0, views = 0, buildings = 0;
+};
+
+// Writes the demo scene into outDir (created): scene.json, dtm.tif, buildings.geojson,
+// cameras.json, images/, masks/, views.json, truth/ (see docs/demo-city.md).
+DemoSummary generate(const DemoOptions& options, const std::string& outDir,
+                     std::function<void(const std::string&)> progress = {});
+
+}  // namespace hv::demo

@@ -1,0 +1,33 @@
+// Quality evaluation (DESIGN.md §3): render views with one or several blending methods and score
+// them against ground-truth images on the pixels that every method and the truth cover.
+#pragma once
+
+#include "hv/eval/report.h"
+#include "hv/render/renderer.h"
+#include "hv/scene/scene.h"
+#include "hv/util/diagnostics.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hv::eval {
+
+enum class Method { Blend, Nearest, NoOcclusion };
+Method parseMethod(const std::string& name);  // throws std::invalid_argument listing the choices
+std::string methodName(Method m);
+// Sets the renderer's blending rule for a method (the other settings stay).
+void applyMethod(Method m, render::RenderSettings& settings);
+
+struct EvalOptions {
+  std::vector<Method> methods{Method::Blend};
+  std::string truthDir;        // <id>.png or <id>.jpg, optional <id>.coverage.png
+  glm::ivec2 size{0};          // output size; (0, 0): each view at its own size
+};
+
+// Renders and scores every view. A view whose truth is missing or unreadable is reported in
+// `diag` and left out of the report; the others are scored. `progress` gets one line per view.
+EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views, const EvalOptions& options,
+                    Diagnostics& diag, const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace hv::eval

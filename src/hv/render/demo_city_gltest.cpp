@@ -1,0 +1,129 @@
+// End-to-end GL tests on the demo city (generated once per test binary): self-view reproduction
+// and the evaluation ordering of issue 2.
+#include "hv/demo/demo_city.h"
+#include "hv/eval/evaluate.h"
+#include "hv/eval/metrics.h"
+#include "hv/io/cameras_json.h"
+#include "hv/io/scene_loader.h"
+#include "hv/render/renderer.h"
+#include "hv/render/testing/gl_test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <limits>
+
+namespace hv::render {
+namespace {
+
+struct DemoCity {
+  demo::DemoSummary summary;
+  Scene scene;
+  std::vector<Photo> views;
+};
+
+const DemoCity& demoCity() {
+  static const DemoCity city = [] {
+    DemoCity c;
+    c.summary = demo::generate(demo::DemoOptions{}, testing::makeTempDir("demo-city"));
+    Diagnostics diag;
+    c.scene = loadScene(c.summary.scenePath, diag);
+    EXPECT_TRUE(diag.ok());
+    CameraFileOptions opt;
+    opt.requireImages = false;
+    c.views = readCameraFile(c.summary.viewsPath, opt, diag);
+    return c;
+  }();
+  return city;
+}
+
+class DemoCityGlTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    testing::glContext();
+    gpu::clearGlErrors();
+  }
+  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
+};
+
+// PSNR of each photograph rendered from its own camera with only itself (K = 1), over its valid
+// (unmasked) pixels that the render covers.
+std::vector<std::pair<std::string, double>> selfViewPsnr(const Scene& scene, RenderSettings settings,
+                                                         int* distortedCount) {
+  settings.blend.k = 1;
+  Diagnostics diag;
+  Renderer renderer(scene, settings, diag);
+  std::vector<std::pair<std::string, double>> out;
+  *distortedCount = 0;
+  for (const Photo& p : scene.photos) {
+    const RenderOutput r = renderer.render(p.camera);
+    EXPECT_EQ(renderer.lastPlan().images.size(), 1u);
+    EXPECT_EQ(renderer.lastPlan().images[0].photo, &p - scene.photos.data());
+    const Image8 photo = readImage(p.imagePath, 3);
+    const Image8 mask = p.maskPath.empty() ? Image8() : readImage(p.maskPath, 1);
+    std::vector<std::uint8_t> scored(photo.data.size() / 3);
+    for (size_t i = 0; i < scored.size(); ++i)
+      scored[i] = r.rgba.data[4 * i + 3] > 0 && (mask.empty() || mask.data[i] > 0);
+    out.emplace_back(p.camera.id, eval::compareImages(r.rgba, photo, scored).psnr);
+    *distortedCount += p.camera.distortion.has_value();
+  }
+  EXPECT_TRUE(diag.ok());
+  return out;
+}
+
+TEST_F(DemoCityGlTest, SelfViewReproducesEachPhotograph) {
+  const DemoCity& city = demoCity();
+  int distorted = 0;
+  const auto psnr = selfViewPsnr(city.scene, RenderSettings{}, &distorted);
+  ASSERT_GE(psnr.size(), 30u);
+  EXPECT_GE(distorted, 3);  // distorted photographs are part of the check
+  double worst = std::numeric_limits<double>::infinity();
+  int identical = 0;
+  for (const auto& [id, v] : psnr) {
+    EXPECT_GE(v, 38.0) << id;
+    worst = std::min(worst, v);
+    identical += std::isinf(v);
+  }
+  std::cout << "self-view, slices not resampled: " << psnr.size() << " photos (" << distorted << " distorted), "
+            << identical << " identical to the photograph, worst PSNR " << worst << " dB\n";
+}
+
+TEST_F(DemoCityGlTest, SelfViewWithResampledSlicesIsReported) {
+  // Slices of at most 256 px: every photograph (300-400 px wide) is scaled down into its slice,
+  // so the render is a bilinear down- then up-sampling of the photograph and cannot be exact.
+  const DemoCity& city = demoCity();
+  RenderSettings s;
+  s.maxSliceSize = 256;
+  int distorted = 0;
+  const auto psnr = selfViewPsnr(city.scene, s, &distorted);
+  double sum = 0.0, worst = 1e9;
+  for (const auto& [id, v] : psnr) {
+    sum += v;
+    worst = std::min(worst, v);
+  }
+  std::cout << "self-view, slices resampled to <= 256 px: mean PSNR " << sum / psnr.size() << " dB, worst "
+            << worst << " dB\n";
+  // A floor well below the measured figures (see docs/evaluation.md), catching only a broken
+  // uv scale (which drops the PSNR to ~10 dB).
+  EXPECT_GE(worst, 20.0);
+}
+
+TEST_F(DemoCityGlTest, BlendBeatsTheBaselinesOnHeldOutViews) {
+  const DemoCity& city = demoCity();
+  Diagnostics diag;
+  Renderer renderer(city.scene, RenderSettings{}, diag);
+  eval::EvalOptions opt;
+  opt.truthDir = city.summary.truthDir;
+  opt.methods = {eval::Method::Blend, eval::Method::Nearest, eval::Method::NoOcclusion};
+  const eval::EvalReport report = eval::evaluate(renderer, city.views, opt, diag);
+  std::cout << eval::formatTable(report);
+  EXPECT_TRUE(diag.ok());
+  ASSERT_EQ(report.rows.size(), city.views.size() * 3);
+  const auto mean = eval::meanPsnr(report);
+  EXPECT_GT(mean.at("blend"), mean.at("nearest"));
+  EXPECT_GT(mean.at("blend"), mean.at("no-occlusion"));
+}
+
+}  // namespace
+}  // namespace hv::render
