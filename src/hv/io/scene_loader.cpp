@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -102,6 +103,13 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");
     }
+  }
+
+  // Keys this version knows; anything else is reported rather than silently ignored.
+  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "cameras"};
+  for (const auto& [key, value] : doc.items()) {
+    if (std::find(std::begin(kKnown), std::end(kKnown), key) == std::end(kKnown))
+      diag.warn(path + ": " + key + ": not read by this version of histoview (ignored)");
   }
 
   if (doc.contains("origin")) {

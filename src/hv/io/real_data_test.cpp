@@ -1,0 +1,98 @@
+// Loading real data that nobody here made (../shared/data, see its README): Delft's BGT
+// footprints on an AHN3-derived DTM, and the Stereopolis street images with their cameras.
+#include "hv/io/cameras_json.h"
+#include "hv/io/scene_loader.h"
+#include "hv/io/raster.h"
+#include "hv/testing/data_dir.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+namespace hv {
+namespace {
+
+TEST(RealData, DelftFootprintsBecomeClosedLod1BuildingsOnTheDtm) {
+  const std::string dir = testing::dataset("delft");
+  if (dir.empty()) GTEST_SKIP() << "no delft/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  Diagnostics diag;
+  const Scene scene = loadScene(dir + "/scene.json", diag);
+  EXPECT_TRUE(diag.ok());
+  // "points" is for a later version: a warning, not an error.
+  ASSERT_EQ(diag.warnings.size(), 1u);
+  EXPECT_NE(diag.warnings[0].find("points"), std::string::npos);
+  EXPECT_EQ(scene.crs, "EPSG:28992");
+  // 160 BGT footprints (README), all valid: every one is built.
+  std::set<std::uint32_t> buildings(scene.buildings.triangleTags.begin(), scene.buildings.triangleTags.end());
+  EXPECT_EQ(buildings.size(), 160u);
+  EXPECT_GT(scene.buildings.signedVolume(), 0.0);
+  // DTM: 265 x 230 cells of 1 m, z from -0.47 to 2.28 m NAP (README): the terrain mesh spans it.
+  const Aabb t = scene.terrain.bounds();
+  EXPECT_NEAR(t.hi.x - t.lo.x, 264.0, 1e-6);  // sample centres: 265 - 1 cells apart
+  EXPECT_NEAR(t.hi.y - t.lo.y, 229.0, 1e-6);
+  EXPECT_NEAR(t.lo.z, -0.47, 0.01);
+  EXPECT_NEAR(t.hi.z, 2.28, 0.01);
+  // Roofs: base (lowest DTM under the footprint) + height, so tops lie within the data's range
+  // of heights (2.39-13.63 m) above the DTM's range.
+  const Aabb b = scene.buildings.bounds();
+  EXPECT_GT(b.hi.z, 13.63 - 0.5);
+  EXPECT_LT(b.hi.z, 13.63 + 2.3);
+  // The render origin defaults to the centre of the data, so render-frame floats stay small.
+  EXPECT_LT(glm::length(glm::dvec2(scene.origin) - glm::dvec2(84940.0, 447527.0)), 50.0);
+}
+
+TEST(RealData, DelftAbsoluteBaseAndTopAttributes) {
+  const std::string dir = testing::dataset("delft");
+  if (dir.empty()) GTEST_SKIP() << "no delft/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  // The same footprints with 3dfier's absolute levels (z_base, z_top) instead of the DTM.
+  const auto tmp = std::filesystem::temp_directory_path() / ("hv-delft-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(tmp);
+  const nlohmann::json scene = {
+      {"crs", "EPSG:28992"},
+      {"buildings", {{"path", dir + "/buildings.geojson"}, {"height", "height"}, {"base", "z_base"}, {"top", "z_top"}}}};
+  std::ofstream(tmp / "scene.json") << scene.dump();
+  Diagnostics diag;
+  const Scene s = loadScene((tmp / "scene.json").string(), diag);
+  EXPECT_TRUE(diag.ok());
+  // Compare each building's roof with its z_top attribute, read independently from the GeoJSON.
+  std::ifstream in(dir + "/buildings.geojson");
+  const nlohmann::json fc = nlohmann::json::parse(in);
+  std::vector<double> tops;
+  for (const auto& f : fc["features"]) tops.push_back(f["properties"]["z_top"].get<double>());
+  std::map<std::uint32_t, double> roof;
+  for (size_t i = 0; i < s.buildings.triangles.size(); ++i) {
+    const auto& tri = s.buildings.triangles[i];
+    double& r = roof[s.buildings.triangleTags[i]];
+    for (int k = 0; k < 3; ++k) r = std::max(r, s.buildings.positions[tri[k]].z);
+  }
+  ASSERT_EQ(roof.size(), tops.size());
+  for (const auto& [tag, z] : roof) EXPECT_NEAR(z, tops[tag], 1e-6) << "building " << tag;
+  std::filesystem::remove_all(tmp);
+}
+
+TEST(RealData, StereopolisCamerasLoadWithTheirImages) {
+  const std::string dir = testing::dataset("paris-stereopolis");
+  if (dir.empty()) GTEST_SKIP() << "no paris-stereopolis/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  Diagnostics diag;
+  const auto photos = readCameraFile(dir + "/cameras.json", CameraFileOptions{}, diag);
+  EXPECT_TRUE(diag.ok());
+  ASSERT_EQ(photos.size(), 30u);  // 6 panoramas x cameras 300-304 (README)
+  int distorted = 0;
+  for (const auto& p : photos) {
+    EXPECT_EQ(p.camera.width, 2048);
+    EXPECT_EQ(p.camera.height, 2048);
+    distorted += p.camera.distortion.has_value();
+    // Lambert-93 around Paris, street level (35-42 m, README).
+    EXPECT_NEAR(p.camera.center.x, 651000.0, 5000.0);
+    EXPECT_NEAR(p.camera.center.z, 40.0, 10.0);
+    EXPECT_TRUE(std::filesystem::is_regular_file(p.imagePath)) << p.imagePath;
+  }
+  EXPECT_EQ(distorted, 30);
+}
+
+}  // namespace
+}  // namespace hv
