@@ -100,6 +100,7 @@ struct DepthBias {
 double shadowBias(const DepthBias& bias, double z, double cosIncidence);
 
 struct ImageParams {
+  int photo = -1;  // index into Scene::photos (not sent to the GPU)
   glm::dmat3 pixFromWorld{1.0};
   glm::dvec3 centerRender{0.0};
   Camera camera;  // for distortion, size (world frame)

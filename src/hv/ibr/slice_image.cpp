@@ -33,13 +33,13 @@ Image8 makeSliceImage(const Camera& cam, const Image8& photo, const Image8& mask
                      " (or the same aspect ratio)");
   const double scale = fitScale(cam, s);
   const int w = scaledExtent(cam.width, scale), h = scaledExtent(cam.height, scale);
-  const Image8 colour = (photo.width == w && photo.height == h) ? photo : resizeBilinear(photo, w, h);
+  const Image8 colour = (photo.width == w && photo.height == h) ? photo : resizeImage(photo, w, h);
   Image8 alpha;
   if (!mask.empty()) {
     if (std::abs(double(mask.width) / mask.height - aspectCam) > 0.01 * aspectCam)
       throw InputError(name + ": mask is " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
                        ", expected the image's aspect ratio");
-    alpha = (mask.width == w && mask.height == h) ? mask : resizeBilinear(mask, w, h);
+    alpha = (mask.width == w && mask.height == h) ? mask : resizeImage(mask, w, h);
   }
   Image8 out(s.width, s.height, 4, 0);
   for (int y = 0; y < h; ++y) {

@@ -39,7 +39,8 @@ void writePng(const std::string& path, const Image8& image);
 void writePng16(const std::string& path, const Image16& image);
 void writeJpeg(const std::string& path, const Image8& image, int quality = 92);
 
-// Bilinear resize (for scaling photographs into texture slices). Pixel-centre aligned.
-Image8 resizeBilinear(const Image8& src, int width, int height);
+// Resize for scaling photographs into texture slices (stb_image_resize: filtered, so shrinking by a
+// large factor does not alias). Pixel-centre aligned: the image keeps covering [0,W]x[0,H].
+Image8 resizeImage(const Image8& src, int width, int height);
 
 }  // namespace hv

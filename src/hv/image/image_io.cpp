@@ -4,6 +4,7 @@
 
 #include <png.h>
 #include <stb_image.h>
+#include <stb_image_resize.h>
 #include <stb_image_write.h>
 
 #include <algorithm>
@@ -104,24 +105,13 @@ void writeJpeg(const std::string& path, const Image8& img, int quality) {
     throw std::runtime_error(path + ": cannot write JPEG");
 }
 
-Image8 resizeBilinear(const Image8& src, int width, int height) {
+Image8 resizeImage(const Image8& src, int width, int height) {
+  // stb_image_resize's default filters (Mitchell when shrinking, so large reductions do not alias;
+  // Catmull-Rom when enlarging). Pixel centres stay aligned: the image maps onto [0,W]x[0,H].
   Image8 out(width, height, src.channels);
-  const double sx = double(src.width) / width, sy = double(src.height) / height;
-  for (int y = 0; y < height; ++y) {
-    const double fy = std::clamp((y + 0.5) * sy - 0.5, 0.0, double(src.height - 1));
-    const int y0 = int(fy), y1 = std::min(y0 + 1, src.height - 1);
-    const double ty = fy - y0;
-    for (int x = 0; x < width; ++x) {
-      const double fx = std::clamp((x + 0.5) * sx - 0.5, 0.0, double(src.width - 1));
-      const int x0 = int(fx), x1 = std::min(x0 + 1, src.width - 1);
-      const double tx = fx - x0;
-      for (int c = 0; c < src.channels; ++c) {
-        const double v = (1 - ty) * ((1 - tx) * src.at(x0, y0, c) + tx * src.at(x1, y0, c)) +
-                         ty * ((1 - tx) * src.at(x0, y1, c) + tx * src.at(x1, y1, c));
-        out.at(x, y, c) = std::uint8_t(std::lround(v));
-      }
-    }
-  }
+  if (!stbir_resize_uint8(src.data.data(), src.width, src.height, 0, out.data.data(), width, height, 0,
+                          src.channels))
+    throw std::runtime_error("image resize failed");
   return out;
 }
 

@@ -109,6 +109,34 @@ TEST_F(DemoCityGlTest, SelfViewWithResampledSlicesIsReported) {
   EXPECT_GE(worst, 20.0);
 }
 
+TEST_F(DemoCityGlTest, ProgressiveFramesConvergeToTheBatchFrame) {
+  const DemoCity& city = demoCity();
+  const Camera& view = city.views[0].camera;
+  Diagnostics diag;
+  RenderSettings s;
+  s.blend.k = 8;
+  s.depthMapsPerFrame = 3;
+  Renderer batch(city.scene, s, diag);
+  const RenderOutput expected = batch.render(view);
+  const int selected = int(batch.lastPlan().images.size());
+  ASSERT_GT(selected, 3);
+
+  Renderer progressive(city.scene, s, diag);
+  int frames = 0;
+  int previousWaiting = selected + 1;
+  RenderOutput out;
+  do {
+    out = progressive.render(view, false, FrameMode::Progressive);
+    ++frames;
+    EXPECT_LE(progressive.stats().depthMapsThisFrame, 3);
+    EXPECT_LT(progressive.stats().imagesWaiting, previousWaiting);  // every frame improves
+    previousWaiting = progressive.stats().imagesWaiting;
+  } while (!progressive.converged() && frames < 100);
+  EXPECT_EQ(frames, (selected + 2) / 3);  // ceil(T / Dmax)
+  EXPECT_EQ(out.rgba.data, expected.rgba.data);
+  EXPECT_TRUE(diag.ok());
+}
+
 TEST_F(DemoCityGlTest, BlendBeatsTheBaselinesOnHeldOutViews) {
   const DemoCity& city = demoCity();
   Diagnostics diag;

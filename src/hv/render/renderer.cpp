@@ -1,6 +1,7 @@
 #include "hv/render/renderer.h"
 
 #include "hv/gpu/gl.h"
+#include "hv/ibr/depth_scheduler.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/util/log.h"
 
@@ -64,7 +65,7 @@ struct Renderer::Impl {
   int paramsRows = 0;
   std::vector<int> slotPhoto;
   std::vector<std::uint64_t> slotLastUse;
-  std::vector<bool> slotDepthDirty;
+  ibr::DepthMapScheduler depthScheduler;
   std::vector<ibr::PinholeFrustum> slotFrustum;
   std::unordered_map<int, int> photoSlot;
   std::vector<bool> photoBroken;
@@ -152,7 +153,7 @@ struct Renderer::Impl {
     slotCount = std::max(slotCount, 1);
     slotPhoto.assign(size_t(slotCount), -1);
     slotLastUse.assign(size_t(slotCount), 0);
-    slotDepthDirty.assign(size_t(slotCount), true);
+    depthScheduler.resize(slotCount);
     slotFrustum.assign(size_t(slotCount), {});
 
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -207,7 +208,7 @@ struct Renderer::Impl {
     slotPhoto[size_t(slot)] = photo;
     photoSlot[photo] = slot;
     slotLastUse[size_t(slot)] = frame;
-    slotDepthDirty[size_t(slot)] = true;
+    depthScheduler.markDirty(slot);
     ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(p.camera, 1.0);
     ibr::setDepthRange(fr, p.camera, bounds);
     slotFrustum[size_t(slot)] = fr;
@@ -249,8 +250,9 @@ struct Renderer::Impl {
     gpu::checkFramebuffer("depth map");
     glViewport(0, 0, depthSize, depthSize);
     drawDepth(ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far);
-    slotDepthDirty[size_t(slot)] = false;
+    depthScheduler.done(slot);
     ++stats.depthMapsRendered;
+    ++stats.depthMapsThisFrame;
   }
 
   void ensureParamsTexture(int rows) {
@@ -297,7 +299,7 @@ struct Renderer::Impl {
     return ids;
   }
 
-  RenderOutput render(const Camera& view, bool withCounts) {
+  RenderOutput render(const Camera& view, bool withCounts, FrameMode mode) {
     const auto t0 = std::chrono::steady_clock::now();
     ++frame;
     ibr::BlendSettings blend = settings.blend;
@@ -331,14 +333,24 @@ struct Renderer::Impl {
       if (!failed) break;
       if (attempt > int(scene.photos.size())) throw std::runtime_error("cannot make the selected images resident");
     }
-    for (int slot : slots)
-      if (slotDepthDirty[size_t(slot)]) renderDepthMap(slot);
+    // Depth maps (DESIGN.md §2 step 3): all of them in batch mode, else the nearest Dmax.
+    stats.depthMapsThisFrame = 0;
+    std::vector<double> priority;
+    for (const auto& im : plan.images) priority.push_back(im.distance);
+    const int dmax = mode == FrameMode::Batch ? 0 : settings.depthMapsPerFrame;
+    for (int slot : depthScheduler.next(slots, priority, dmax)) renderDepthMap(slot);
 
-    // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image.
+    // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image. An image
+    // whose depth map is not current yet (progressive frames) waits, unless occlusion is off.
     params.clear();
     std::vector<float> packed;
     const double biasAbs = depthBiasAbsolute();
+    stats.imagesWaiting = 0;
     for (size_t i = 0; i < plan.images.size(); ++i) {
+      if (blend.occlusion && depthScheduler.isDirty(slots[i])) {
+        ++stats.imagesWaiting;
+        continue;
+      }
       const Camera& cam = scene.photos[size_t(plan.images[i].photo)].camera;
       const ibr::PinholeFrustum& fr = slotFrustum[size_t(slots[i])];
       const double texel = std::max((fr.pxMax.x - fr.pxMin.x) / (depthSize * cam.focal.x),
@@ -346,6 +358,7 @@ struct Renderer::Impl {
       const ibr::DepthBias bias{biasAbs, settings.depthBiasTexels * texel};
       params.push_back(ibr::makeImageParams(cam, scene.origin, ibr::sliceLayout(cam, sliceSize, slots[i]),
                                             plan.images[i].weight, fr, bias));
+      params.back().photo = plan.images[i].photo;
       packed.resize(packed.size() + ibr::kTexelsPerImage * 4);
       ibr::packImageParams(params.back(), packed.data() + packed.size() - ibr::kTexelsPerImage * 4);
     }
@@ -477,7 +490,10 @@ Renderer::Renderer(const Scene& scene, RenderSettings settings, Diagnostics& dia
   impl_->init();
 }
 Renderer::~Renderer() = default;
-RenderOutput Renderer::render(const Camera& view, bool withCounts) { return impl_->render(view, withCounts); }
+RenderOutput Renderer::render(const Camera& view, bool withCounts, FrameMode mode) {
+  return impl_->render(view, withCounts, mode);
+}
+bool Renderer::converged() const { return impl_->stats.imagesWaiting == 0; }
 const ibr::FramePlan& Renderer::lastPlan() const { return impl_->plan; }
 const std::vector<ibr::ImageParams>& Renderer::lastImageParams() const { return impl_->params; }
 const RenderSettings& Renderer::settings() const { return impl_->settings; }

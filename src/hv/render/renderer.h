@@ -26,6 +26,14 @@ struct RenderSettings {
   int maxSliceSize = 2048;            // largest slice side; bigger photographs are scaled down
   int maxSlices = 256;                // image slots (also capped by MAX_ARRAY_TEXTURE_LAYERS and memory)
   std::size_t memoryBudgetBytes = std::size_t(1) << 30;  // images + depth maps
+  // Progressive frames (a viewer): at most this many depth maps per frame, nearest camera first;
+  // <= 0: all. Batch frames ignore it.
+  int depthMapsPerFrame = 4;
+};
+
+enum class FrameMode {
+  Batch,        // every needed depth map rendered first: deterministic output (render, eval)
+  Progressive,  // at most depthMapsPerFrame depth maps; images whose map is not current wait
 };
 
 struct RenderOutput {
@@ -34,7 +42,9 @@ struct RenderOutput {
 };
 
 struct RenderStats {
-  int depthMapsRendered = 0;
+  int depthMapsRendered = 0;       // since construction
+  int depthMapsThisFrame = 0;
+  int imagesWaiting = 0;           // selected but left out of the last frame (depth map not current)
   int imagesLoaded = 0;
   double lastFrameMs = 0.0;
 };
@@ -49,7 +59,9 @@ class Renderer {
 
   // Renders one view (batch: every needed image resident and every depth map current, so the
   // output is deterministic). A view with distortion is rendered distorted.
-  RenderOutput render(const Camera& view, bool withCounts = false);
+  RenderOutput render(const Camera& view, bool withCounts = false, FrameMode mode = FrameMode::Batch);
+  // True when the last frame used every selected image with a current depth map.
+  bool converged() const;
 
   const ibr::FramePlan& lastPlan() const;
   // The per-image parameters of the last frame, in the order the shader saw them.

@@ -103,8 +103,8 @@ TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
   }
   std::vector<int> sliceOfParam;
   ibr::TextureLookup tex = [&](int slice, glm::dvec2 uv) {
-    for (size_t i = 0; i < params.size(); ++i)
-      if (params[i].layout.slice == slice) return ibr::sampleBilinear(slices[size_t(renderer.lastPlan().images[i].photo)], uv);
+    for (const auto& p : params)
+      if (p.layout.slice == slice) return ibr::sampleBilinear(slices[size_t(p.photo)], uv);
     ADD_FAILURE() << "unknown slice";
     return glm::dvec4(0.0);
   };
