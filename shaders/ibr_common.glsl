@@ -16,6 +16,7 @@ struct HvImage {
   float weight;
   vec2 depthMin, depthInvSize;
   float near, far, biasAbs, biasRel;
+  vec2 date;      // the photograph's date interval, days (+-1e7 when open)
 };
 
 HvImage hv_fetchImage(int i) {
@@ -27,6 +28,7 @@ HvImage hv_fetchImage(int i) {
   vec4 t5 = texelFetch(u_params, ivec2(5, i), 0);
   vec4 t6 = texelFetch(u_params, ivec2(6, i), 0);
   vec4 t7 = texelFetch(u_params, ivec2(7, i), 0);
+  vec4 t8 = texelFetch(u_params, ivec2(8, i), 0);
   HvImage im;
   // Rows in the texture, GLSL matrices are column-major: transpose.
   im.M = transpose(mat3(t0.xyz, t1.xyz, t2.xyz));
@@ -46,6 +48,7 @@ HvImage hv_fetchImage(int i) {
   im.far = t7.y;
   im.biasAbs = t7.z;
   im.biasRel = t7.w;
+  im.date = t8.xy;
   return im;
 }
 

@@ -15,6 +15,13 @@ uniform highp sampler2DArray u_images;     // premultiplied RGBA8, alpha = mask
 uniform highp sampler2DArray u_depthMaps;  // linear depth in [0, 1] between near and far
 uniform highp sampler2D u_viewDepth;       // the view's geometry pass, same encoding
 uniform highp sampler2D u_idealLookup;     // distorted views: ideal pixel of each output pixel
+uniform highp sampler2D u_viewBuilding;    // building index + 1 of each view-depth texel (RGBA8)
+uniform highp sampler2D u_validity;        // per building index: days [first, last] (RGBA32F rows)
+uniform int u_validityWidth;
+uniform highp usampler2D u_tileLists;      // per tile (row tileY * tilesX + tileX): count, then indices
+uniform bool u_culling;
+uniform int u_tileSize;                    // in view-depth texels
+uniform int u_tilesX;
 uniform bool u_useLookup;
 uniform vec2 u_viewRectMin;
 uniform vec2 u_viewRectInvSize;
@@ -26,14 +33,16 @@ uniform mat3 u_viewDirFromPix;  // R^T K^-1: world direction (camera z = 1) of a
 uniform int u_imageCount;
 uniform int u_method;           // 0 blend, 1 nearest
 uniform bool u_occlusion;
-uniform int u_mode;             // 0 colour, 1 contributing-image count (16 bits in r, g)
+uniform int u_mode;             // 0 colour, 1 contributing-image count, 2 loop length (16 bits in r, g)
 uniform vec3 u_background;
 
 out vec4 o_color;
 
 void writeBackground() {
-  o_color = u_mode == 1 ? vec4(0.0) : vec4(u_background, 0.0);
+  o_color = u_mode != 0 ? vec4(0.0) : vec4(u_background, 0.0);
 }
+
+vec4 encodeCount(int n) { return vec4(float(n & 255) / 255.0, float(n >> 8) / 255.0, 0.0, 1.0); }
 
 // Depth-map test with a slope-scaled bias: within one depth-map texel, a surface seen at angle
 // theta from its normal spans footprint * tan(theta) of depth, so the bias grows with tan(theta)
@@ -60,25 +69,43 @@ void main() {
   background = background || d >= 1.0;
   float zView = mix(u_viewNear, u_viewFar, d);
   vec3 P = u_viewCenter + zView * (u_viewDirFromPix * vec3(pIdeal, 1.0));
-  vec3 n = cross(dFdx(P), dFdy(P));
-  n = dot(n, n) > 0.0 ? normalize(n) : vec3(0.0, 0.0, 1.0);
+  vec3 normal = cross(dFdx(P), dFdy(P));
+  normal = dot(normal, normal) > 0.0 ? normalize(normal) : vec3(0.0, 0.0, 1.0);
   if (background) {
     writeBackground();
     return;
   }
+  // When the surface under this pixel existed (terrain: always).
+  vec2 existed = vec2(-1e7, 1e7);
+  vec4 b = texelFetch(u_viewBuilding, dpix, 0) * 255.0;
+  int building = int(b.r + 0.5) + 256 * int(b.g + 0.5) + 65536 * int(b.b + 0.5);
+  if (building > 0) {
+    int index = building - 1;
+    existed = texelFetch(u_validity, ivec2(index % u_validityWidth, index / u_validityWidth), 0).xy;
+  }
 
+  // The images to visit: this tile's list (hv::ibr::buildTileLists), or every selected image.
+  int row = 0;
+  int n = u_imageCount;
+  if (u_culling) {
+    ivec2 tile = dpix / u_tileSize;
+    row = tile.y * u_tilesX + tile.x;
+    n = int(texelFetch(u_tileLists, ivec2(0, row), 0).r);
+  }
   vec3 sum = vec3(0.0);
   float alpha = 0.0;
   int count = 0;
-  for (int i = 0; i < u_imageCount; ++i) {
+  for (int k = 0; k < n; ++k) {
+    int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
     HvImage im = hv_fetchImage(i);
     vec2 p, pd;
     float z;
     if (!hv_project(im, P, p, pd, z)) continue;
+    if (existed.y < im.date.x || existed.x > im.date.y) continue;  // not built yet, or gone, at its date
     if (u_occlusion) {
       vec2 dt = (p - im.depthMin) * im.depthInvSize;
       float zMap = mix(im.near, im.far, texture(u_depthMaps, vec3(dt, im.slice)).r);
-      if (z > zMap + hv_shadowBias(im, z, n, normalize(P - im.C))) continue;  // shadowed (Brédif 2013 §2.2)
+      if (z > zMap + hv_shadowBias(im, z, normal, normalize(P - im.C))) continue;  // shadowed (Brédif 2013 §2.2)
     }
     vec4 texel = textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0);
     if (texel.a <= 0.0) continue;
@@ -93,8 +120,8 @@ void main() {
     alpha += im.weight * texel.a;
     ++count;
   }
-  if (u_mode == 1) {
-    o_color = vec4(float(count & 255) / 255.0, float(count >> 8) / 255.0, 0.0, 1.0);
+  if (u_mode != 0) {
+    o_color = encodeCount(u_mode == 1 ? count : n);
     return;
   }
   if (alpha <= 0.0) {

@@ -2,6 +2,7 @@
 
 #include "hv/app/demo_command.h"
 #include "hv/app/eval_command.h"
+#include "hv/app/fly_command.h"
 #include "hv/app/render_command.h"
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,7 @@ void registerCommands(CLI::App& app) {
   addInfoCommand(app, g_exit);
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
+  addFlyCommand(app, g_exit);
   addDemoCommand(app, g_exit);
 }
 

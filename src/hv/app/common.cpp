@@ -12,17 +12,66 @@
 
 namespace hv::app {
 
-void addViewOptions(CLI::App& cmd, ViewOptions& o) {
+namespace {
+
+const char* const kDateForms = "YYYY, YYYY-MM, YYYY-MM-DD or YYYY-MM-DDThh:mm[:ss]";
+
+// Rejects a malformed date while the command line is parsed, before the scene loads.
+CLI::Validator isoDate() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (parseDate(text)) return "";
+        return "expected an ISO 8601 date (" + std::string(kDateForms) + "), got '" + text + "'";
+      },
+      "DATE");
+}
+
+}  // namespace
+
+void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("scene", o.scenePath, "scene.json")->required()->check(CLI::ExistingFile);
-  cmd.add_option("--views", o.viewsPath, "cameras to render (cameras.json schema; image optional)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  if (withViews)
+    cmd.add_option("--views", o.viewsPath, "cameras to render (cameras.json schema; image optional)")
+        ->required()
+        ->check(CLI::ExistingFile);
   cmd.add_option("--size", o.size, "output size WxH (intrinsics scaled uniformly; default: each view's own)");
   cmd.add_option("--k", o.k, "images blended per pixel")->check(CLI::PositiveNumber);
   cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)");
   cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated)")->delimiter(',');
   cmd.add_option("--depth-size", o.depthSize, "depth-map resolution")->check(CLI::Range(16, 16384));
   cmd.add_option("--background", o.background, "background colour R,G,B (0-255)");
+  cmd.add_option("--from", o.from,
+                 "only photographs dated on or after DATE (ISO 8601; a partial date such as 1905 is the "
+                 "interval it names, and matches when the intervals overlap)")
+      ->check(isoDate());
+  cmd.add_option("--to", o.to, "only photographs dated on or before DATE (ISO 8601, as --from)")
+      ->check(isoDate());
+  cmd.add_flag("--dated-only", o.datedOnly, "leave out undated photographs (kept by default)");
+}
+
+std::optional<DateInterval> timeWindow(const std::string& from, const std::string& to) {
+  if (from.empty() && to.empty()) return std::nullopt;
+  auto read = [](const std::string& option, const std::string& text) {
+    const auto d = parseDate(text);
+    if (!d)
+      throw std::invalid_argument(option + ": expected an ISO 8601 date (" + kDateForms + "), got '" + text +
+                                  "'");
+    return *d;
+  };
+  DateInterval w;  // open on both sides
+  if (!from.empty()) w.first = read("--from", from).first;
+  if (!to.empty()) w.last = read("--to", to).last;
+  if (w.first > w.last)
+    throw std::invalid_argument("--from " + from + " is after --to " + to + ": the time window is empty");
+  return w;
+}
+
+void checkPhotoDates(const Scene& scene, Diagnostics& diag) {
+  for (const auto& p : scene.photos)
+    if (!p.date.empty() && !parseDate(p.date))
+      diag.warn(inputMessage(scene.path, "camera '" + p.camera.id + "': date",
+                             "expected an ISO 8601 date (" + std::string(kDateForms) + "), got '" + p.date +
+                                 "'; the photograph is treated as undated"));
 }
 
 glm::ivec2 parseSize(const std::string& s) {
@@ -58,19 +107,25 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   s.blend.exclude = o.exclude;
   s.depthSize = o.depthSize;
   s.background = parseColour(o.background);
+  s.blend.window = timeWindow(o.from, o.to);
+  s.blend.datedOnly = o.datedOnly;
   return s;
 }
 
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag) {
+  const render::RenderSettings settings = renderSettings(o);  // bad option values fail before loading
   auto session = std::make_unique<Session>();
   session->scene = loadScene(o.scenePath, diag);
-  CameraFileOptions viewOpts;
-  viewOpts.requireImages = false;
-  viewOpts.checkImageFiles = false;
-  session->views = readCameraFile(o.viewsPath, viewOpts, diag);
-  if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
+  checkPhotoDates(session->scene, diag);
+  if (!o.viewsPath.empty()) {
+    CameraFileOptions viewOpts;
+    viewOpts.requireImages = false;
+    viewOpts.checkImageFiles = false;
+    session->views = readCameraFile(o.viewsPath, viewOpts, diag);
+    if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
+  }
   session->context = gpu::createHeadlessContext();
-  session->renderer = std::make_unique<render::Renderer>(session->scene, renderSettings(o), diag);
+  session->renderer = std::make_unique<render::Renderer>(session->scene, settings, diag);
   return session;
 }
 

@@ -5,6 +5,7 @@
 #include "hv/gpu/context.h"
 #include "hv/render/renderer.h"
 #include "hv/scene/scene.h"
+#include "hv/util/dates.h"
 #include "hv/util/diagnostics.h"
 
 #include <glm/glm.hpp>
@@ -20,23 +21,35 @@ class App;
 
 namespace hv::app {
 
-// Options shared by render and eval.
+// Options shared by render, eval and fly.
 struct ViewOptions {
   std::string scenePath;
-  std::string viewsPath;
+  std::string viewsPath;            // empty: no views file (fly reads a path instead)
   std::string size;                 // "WxH", empty: each view's own
   int k = 8;
   double sigma = -1.0;
   std::vector<std::string> exclude;
   int depthSize = 1024;
   std::string background = "0,0,0";
+  std::string from, to;             // time window, ISO 8601 dates; empty: open on that side
+  bool datedOnly = false;
 };
-void addViewOptions(CLI::App& cmd, ViewOptions& o);
+// `withViews`: the required --views option (render, eval); fly has --path instead.
+void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews = true);
 
 // "640x480" -> (640, 480); throws std::invalid_argument with the expected form.
 glm::ivec2 parseSize(const std::string& s);
 // "R,G,B" (0-255) -> [0, 1]; throws std::invalid_argument.
 glm::dvec3 parseColour(const std::string& s);
+
+// The --from/--to window: [first day of --from, last day of --to], either end open when absent;
+// nullopt when both are. Throws std::invalid_argument naming the option and the text for a date
+// that is not ISO 8601, or when --from is after --to.
+std::optional<DateInterval> timeWindow(const std::string& from, const std::string& to);
+
+// Warns (file, camera id, field "date") for every photograph whose date is not an ISO 8601 date:
+// such a photograph is treated as undated by the time window.
+void checkPhotoDates(const Scene& scene, Diagnostics& diag);
 
 // The view camera at the requested output size: intrinsics scaled uniformly; a different aspect
 // ratio is an error (std::invalid_argument naming the view).
@@ -49,8 +62,9 @@ struct Session {
   std::unique_ptr<render::Renderer> renderer;
 };
 
-// Loads the scene and views, prints what failed, creates the context and renderer.
-// Returns nullopt (after printing why) when nothing can be rendered.
+// Loads the scene and the views (when o.viewsPath is set), prints what failed, creates the context
+// and renderer. Throws (InputError, std::invalid_argument for option values) when nothing can be
+// rendered; option values are checked before anything is loaded.
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag);
 render::RenderSettings renderSettings(const ViewOptions& o);
 

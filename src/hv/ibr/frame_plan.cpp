@@ -15,10 +15,13 @@ PinholeFrustum idealRectCoveringImage(const Camera& cam, double marginPx) {
   if (cam.distortion && !cam.distortion->isIdentity()) {
     glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     const int steps = 64;
+    bool outsideDomain = false;
     auto visit = [&](glm::dvec2 pd) {
       if (auto p = cam.undistort(pd)) {
         lo = glm::min(lo, *p);
         hi = glm::max(hi, *p);
+      } else {
+        outsideDomain = true;
       }
     };
     for (int s = 0; s <= steps; ++s) {
@@ -28,11 +31,16 @@ PinholeFrustum idealRectCoveringImage(const Camera& cam, double marginPx) {
       visit({0.0, t * cam.height});
       visit({double(cam.width), t * cam.height});
     }
-    // The border may lie outside the distortion domain (undistort fails there); the domain's own
-    // disc then bounds the image, so include the image rectangle too.
     if (lo.x <= hi.x) {
       f.pxMin = glm::min(lo, f.pxMin);
       f.pxMax = glm::max(hi, f.pxMax);
+    }
+    // Part of the image border has no undistorted preimage: the image then extends to the edge of
+    // the distortion domain, a disc of radius sqrt(r2max) whose box bounds the ideal points.
+    if (outsideDomain && cam.distortion->r2max < 1e29) {
+      const double r = std::sqrt(cam.distortion->r2max);
+      f.pxMin = glm::min(f.pxMin, cam.distortion->center - r);
+      f.pxMax = glm::max(f.pxMax, cam.distortion->center + r);
     }
   }
   f.pxMin -= glm::dvec2(marginPx);
@@ -74,41 +82,69 @@ glm::dmat4 clipFromRender(const Camera& cam, const PinholeFrustum& fr, const glm
   return proj * camFromRender;
 }
 
-std::vector<glm::dvec3> viewFrustumSamples(const Camera& view, const Aabb& b, int nx, int ny, int nz) {
-  std::vector<glm::dvec3> out;
-  if (b.empty()) return out;
-  const PinholeFrustum rect = idealRectCoveringImage(view);
-  for (int j = 0; j < ny; ++j) {
-    for (int i = 0; i < nx; ++i) {
-      const glm::dvec2 px = glm::mix(rect.pxMin, rect.pxMax, glm::dvec2((i + 0.5) / nx, (j + 0.5) / ny));
-      const glm::dvec3 dir = view.rayDirection(px);  // camera z = 1: t is the depth
-      // Slab test: the ray's interval inside the box.
-      double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
-      for (int a = 0; a < 3; ++a) {
-        if (std::abs(dir[a]) < 1e-15) {
-          if (view.center[a] < b.lo[a] || view.center[a] > b.hi[a]) t1 = -1.0;
-          continue;
-        }
-        double ta = (b.lo[a] - view.center[a]) / dir[a], tb = (b.hi[a] - view.center[a]) / dir[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-      }
-      if (!(t1 > t0)) continue;
-      const double start = std::max(t0, 1e-3 * t1);
-      for (int k = 0; k < nz; ++k) {
-        const double t = start * std::pow(t1 / start, (k + 0.5) / nz);
-        out.push_back(view.center + t * dir);
-      }
-    }
+FrustumCorners frustumCorners(const Camera& cam, const PinholeFrustum& f) {
+  const glm::dvec2 px[4] = {f.pxMin, {f.pxMax.x, f.pxMin.y}, f.pxMax, {f.pxMin.x, f.pxMax.y}};
+  FrustumCorners out;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3 dir = cam.rayDirection(px[i]);  // camera z = 1: scaled by depth
+    out[size_t(i)] = cam.center + f.near * dir;
+    out[size_t(i) + 4] = cam.center + f.far * dir;
   }
   return out;
 }
 
-bool seesAnySample(const Camera& photo, const std::vector<glm::dvec3>& samples) {
-  for (const auto& p : samples)
-    if (photo.project(p).inImage) return true;
-  return false;
+FrustumCorners sceneFrustum(const Camera& cam, const Aabb& bounds) {
+  PinholeFrustum f = idealRectCoveringImage(cam);
+  setDepthRange(f, cam, bounds);
+  return frustumCorners(cam, f);
+}
+
+namespace {
+
+// Face normals and edge directions of a truncated frustum with the corner order above.
+void frustumAxes(const FrustumCorners& c, std::vector<glm::dvec3>& normals, std::vector<glm::dvec3>& edges) {
+  const glm::dvec3 e[6] = {c[1] - c[0], c[3] - c[0], c[4] - c[0], c[5] - c[1], c[6] - c[2], c[7] - c[3]};
+  edges.insert(edges.end(), std::begin(e), std::end(e));
+  normals.push_back(glm::cross(e[0], e[1]));                // near and far faces
+  for (int i = 0; i < 4; ++i) {                             // the four side faces
+    const glm::dvec3 rim = c[size_t((i + 1) % 4)] - c[size_t(i)];
+    normals.push_back(glm::cross(rim, c[size_t(i) + 4] - c[size_t(i)]));
+  }
+}
+
+bool separatedAlong(const glm::dvec3& axis, const FrustumCorners& a, const FrustumCorners& b) {
+  const double len2 = glm::dot(axis, axis);
+  if (len2 < 1e-24) return false;  // parallel edges: not an axis
+  double aLo = 1e300, aHi = -1e300, bLo = 1e300, bHi = -1e300;
+  for (const auto& p : a) {
+    const double d = glm::dot(axis, p);
+    aLo = std::min(aLo, d);
+    aHi = std::max(aHi, d);
+  }
+  for (const auto& p : b) {
+    const double d = glm::dot(axis, p);
+    bLo = std::min(bLo, d);
+    bHi = std::max(bHi, d);
+  }
+  return aHi < bLo || bHi < aLo;
+}
+
+}  // namespace
+
+bool frustaOverlap(const FrustumCorners& a, const FrustumCorners& b) {
+  // Work relative to a's first corner so that projected coordinates stay small.
+  FrustumCorners ra = a, rb = b;
+  for (auto& p : ra) p -= a[0];
+  for (auto& p : rb) p -= a[0];
+  std::vector<glm::dvec3> normals, edgesA, edgesB;
+  frustumAxes(ra, normals, edgesA);
+  frustumAxes(rb, normals, edgesB);
+  for (const auto& n : normals)
+    if (separatedAlong(n, ra, rb)) return false;
+  for (const auto& ea : edgesA)
+    for (const auto& eb : edgesB)
+      if (separatedAlong(glm::cross(ea, eb), ra, rb)) return false;
+  return true;
 }
 
 FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& s,
@@ -117,11 +153,21 @@ FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& 
   plan.view = view;
   plan.settings = s;
   plan.sigma = s.sigma > 0.0 ? s.sigma : scene.cameraSpacing();
-  const std::vector<glm::dvec3> samples = s.frustumFilter ? viewFrustumSamples(view, bounds) : std::vector<glm::dvec3>{};
+  const bool filter = s.frustumFilter && !bounds.empty();
+  const FrustumCorners viewFrustum = filter ? sceneFrustum(view, bounds) : FrustumCorners{};
   auto keep = [&](int i) {
     const Camera& cam = scene.photos[size_t(i)].camera;
     if (std::find(s.exclude.begin(), s.exclude.end(), cam.id) != s.exclude.end()) return false;
-    return !s.frustumFilter || seesAnySample(cam, samples);
+    if (s.window || s.datedOnly) {
+      const std::string& date = scene.photos[size_t(i)].date;
+      const std::optional<DateInterval> when = date.empty() ? std::nullopt : parseDate(date);
+      if (!when) {
+        if (s.datedOnly) return false;
+      } else if (s.window && !overlaps(*when, *s.window)) {
+        return false;
+      }
+    }
+    return !filter || frustaOverlap(viewFrustum, sceneFrustum(cam, bounds));
   };
   const auto cands = index.nearest(view.center, size_t(std::max(s.k, 0)) + 1, keep);
   std::vector<double> d;
@@ -130,6 +176,11 @@ FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& 
   for (size_t i = 0; i < w.size(); ++i) plan.images.push_back({cands[i].photo, cands[i].distance, w[i]});
   plan.nextDistance = cands.size() > w.size() ? cands[w.size()].distance : -1.0;
   return plan;
+}
+
+glm::vec2 gpuDays(const DateInterval& d) {
+  auto clampDay = [](std::int64_t v) { return float(std::clamp<double>(double(v), -kOpenDay, kOpenDay)); };
+  return {clampDay(d.first), clampDay(d.last)};
 }
 
 double shadowBias(const DepthBias& b, double z, double cosIncidence) {
@@ -178,6 +229,11 @@ void packImageParams(const ImageParams& p, float* o) {
   o[29] = float(p.depth.far);
   o[30] = float(p.bias.absolute);
   o[31] = float(p.bias.relative);
+  const glm::vec2 days = gpuDays(p.date);
+  o[32] = days.x;
+  o[33] = days.y;
+  o[34] = 0.0f;
+  o[35] = 0.0f;
 }
 
 }  // namespace hv::ibr

@@ -6,9 +6,12 @@
 #include "hv/camera/camera.h"
 #include "hv/ibr/selection.h"
 #include "hv/scene/scene.h"
+#include "hv/util/dates.h"
 
 #include <glm/glm.hpp>
 
+#include <optional>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -26,15 +29,12 @@ struct BlendSettings {
   // Only photographs that see part of the view frustum (clipped to the scene bounds) are
   // candidates, so the K slots go to images that can texture the view (DESIGN.md §2 step 1).
   bool frustumFilter = true;
+  // Time window (--from/--to): a dated photograph is a candidate when its date (the interval it
+  // names, hv/util/dates.h) overlaps the window; an undated one (no date, or one parseDate
+  // rejects) is a candidate unless datedOnly, which drops it with or without a window.
+  std::optional<DateInterval> window;
+  bool datedOnly = false;
 };
-
-// Sample points of the view frustum clipped to `bounds`: rays through an nx x ny grid over the
-// image, at nz depths spaced geometrically from where each ray enters the bounds to where it
-// leaves them. Empty when the view sees none of the bounds.
-std::vector<glm::dvec3> viewFrustumSamples(const Camera& view, const Aabb& bounds, int nx = 9, int ny = 7,
-                                           int nz = 8);
-// True when some sample projects inside the photograph's image.
-bool seesAnySample(const Camera& photo, const std::vector<glm::dvec3>& samples);
 
 // The pinhole frustum a depth map (or the view's geometry pass) is rendered with: the ideal
 // (undistorted) pixel rectangle that covers the whole distorted image, and the depth range.
@@ -54,6 +54,17 @@ void setDepthRange(PinholeFrustum& frustum, const Camera& camera, const Aabb& sc
 // are stored top row first, so texture row 0 is the image's top row and gl_FragCoord.xy is the
 // pixel position in the top-left convention (see docs/conventions.md).
 glm::dmat4 clipFromRender(const Camera& camera, const PinholeFrustum& frustum, const glm::dvec3& origin);
+
+// A pinhole frustum truncated at near and far, as its 8 corners (world): near face then far face,
+// each in the order (pxMin.x, pxMin.y), (pxMax.x, pxMin.y), (pxMax.x, pxMax.y), (pxMin.x, pxMax.y).
+using FrustumCorners = std::array<glm::dvec3, 8>;
+FrustumCorners frustumCorners(const Camera& camera, const PinholeFrustum& frustum);
+// The frustum a camera sees the scene with: its ideal rectangle covering the image, truncated at
+// the depth range of `bounds`.
+FrustumCorners sceneFrustum(const Camera& camera, const Aabb& bounds);
+// Exact overlap test of two truncated frusta (convex polyhedra) by the separating axis theorem:
+// face normals of both and cross products of their edge directions.
+bool frustaOverlap(const FrustumCorners& a, const FrustumCorners& b);
 
 struct SelectedImage {
   int photo = -1;
@@ -87,7 +98,14 @@ struct SliceLayout {
 //   t5     : uvScale (xy), slice, weight
 //   t6     : depth rect: pxMin (xy), 1/(pxMax - pxMin) (zw)
 //   t7     : near, far, bias (absolute, scene units), bias (relative to depth)
-inline constexpr int kTexelsPerImage = 8;
+//   t8     : the photograph's date interval (days since 1970-01-01, hv/util/dates.h; +-kOpenDay when
+//            undated), 0, 0
+inline constexpr int kTexelsPerImage = 9;
+// Stands for an open end of a date interval on the GPU (days; floats hold whole days exactly up
+// to 2^24, so day numbers of the last and next few millennia are exact).
+inline constexpr double kOpenDay = 1e7;
+// A date interval as two floats for the GPU, open ends clamped to +-kOpenDay.
+glm::vec2 gpuDays(const DateInterval& interval);
 
 struct DepthBias {
   double absolute = 0.0;  // scene units
@@ -108,6 +126,7 @@ struct ImageParams {
   double weight = 0.0;
   PinholeFrustum depth;
   DepthBias bias;
+  DateInterval date;  // the photograph's (open when undated)
 };
 
 ImageParams makeImageParams(const Camera& camera, const glm::dvec3& origin, const SliceLayout& layout, double weight,

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace hv::ibr {
 namespace {
 
@@ -120,6 +122,8 @@ TEST(PackImageParams, LayoutMatchesTheShaderReader) {
   EXPECT_FLOAT_EQ(o[29], 99.0f);
   EXPECT_FLOAT_EQ(o[30], 0.05f);
   EXPECT_FLOAT_EQ(o[31], 0.01f);
+  EXPECT_FLOAT_EQ(o[32], -1e7f);  // undated: open interval
+  EXPECT_FLOAT_EQ(o[33], 1e7f);
   cam.distortion.reset();
   packImageParams(makeImageParams(cam, {0, 0, 0}, {}, 1.0, fr, {}), o);
   EXPECT_LT(o[17], 0.0f);  // no distortion
@@ -216,23 +220,61 @@ TEST(FrustumFilter, KeepsPhotographsThatSeeTheView) {
   street.extend({-20, 0, 0});
   street.extend({20, 60, 15});
   // The view looks along +y into the street from its south end.
-  const Camera view = testCamera({0, -2, 1.7});
-  const auto samples = viewFrustumSamples(view, street);
-  ASSERT_FALSE(samples.empty());
-  for (const auto& p : samples) {
-    EXPECT_TRUE(view.project(p).inImage);
-    EXPECT_GE(p.y, -1e-9);  // inside the bounds
-    EXPECT_LE(p.z, 15.0 + 1e-9);
-  }
+  const FrustumCorners view = sceneFrustum(testCamera({0, -2, 1.7}), street);
   // Same direction, a few metres ahead: sees the same street.
-  EXPECT_TRUE(seesAnySample(testCamera({2, 5, 1.7}), samples));
-  // Turned around (looking along -y, out of the street): sees none of it.
+  EXPECT_TRUE(frustaOverlap(view, sceneFrustum(testCamera({2, 5, 1.7}), street)));
+  // Turned around, behind the view, looking out of the street: no common point.
   Camera away = testCamera({0, -3, 1.7});
   const double r[9] = {-1, 0, 0, 0, 0, -1, 0, -1, 0};
   away.camFromWorld = mat3FromRowMajor(r);
-  EXPECT_FALSE(seesAnySample(away, samples));
-  // A view outside the bounds looking away from them samples nothing.
-  EXPECT_TRUE(viewFrustumSamples(away, street).empty());
+  EXPECT_FALSE(frustaOverlap(view, sceneFrustum(away, street)));
+  // Far ahead looking back towards the view: the frusta meet.
+  Camera back = testCamera({0, 50, 1.7});
+  back.camFromWorld = mat3FromRowMajor(r);
+  EXPECT_TRUE(frustaOverlap(view, sceneFrustum(back, street)));
+}
+
+TEST(FrustumFilter, SeparatingAxesAgreeWithPointSampling) {
+  // Two frusta overlap iff some point lies in both: compare with dense sampling of one of them.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Aabb box;
+  box.extend({-30, -30, 0});
+  box.extend({30, 30, 20});
+  int overlaps = 0, separated = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    Camera a = testCamera({60 * u(rng) - 30, 60 * u(rng) - 30, 20 * u(rng)});
+    Camera b = testCamera({60 * u(rng) - 30, 60 * u(rng) - 30, 20 * u(rng)});
+    const double ya = 2 * M_PI * u(rng), yb = 2 * M_PI * u(rng);
+    auto yaw = [](double t) {
+      const double r[9] = {std::cos(t + M_PI / 2), std::sin(t + M_PI / 2), 0, 0, 0, -1, std::cos(t), std::sin(t), 0};
+      return mat3FromRowMajor(r);
+    };
+    a.camFromWorld = yaw(ya);
+    b.camFromWorld = yaw(yb);
+    a.distortion.reset();
+    b.distortion.reset();
+    const FrustumCorners fa = sceneFrustum(a, box), fb = sceneFrustum(b, box);
+    PinholeFrustum ra = idealRectCoveringImage(a);
+    setDepthRange(ra, a, box);
+    PinholeFrustum rb = idealRectCoveringImage(b);
+    setDepthRange(rb, b, box);
+    bool sampledOverlap = false;
+    for (int i = 0; i < 20000 && !sampledOverlap; ++i) {
+      const glm::dvec2 px = glm::mix(ra.pxMin, ra.pxMax, glm::dvec2(u(rng), u(rng)));
+      const double z = ra.near + u(rng) * (ra.far - ra.near);
+      const glm::dvec3 P = a.center + z * a.rayDirection(px);
+      const Projection p = b.project(P);
+      sampledOverlap = p.inFront && p.depth >= rb.near && p.depth <= rb.far && p.pxIdeal.x >= rb.pxMin.x &&
+                       p.pxIdeal.x <= rb.pxMax.x && p.pxIdeal.y >= rb.pxMin.y && p.pxIdeal.y <= rb.pxMax.y;
+    }
+    const bool sat = frustaOverlap(fa, fb);
+    if (sampledOverlap) EXPECT_TRUE(sat) << "trial " << trial;  // never a false "separated"
+    overlaps += sat;
+    separated += !sat;
+  }
+  EXPECT_GT(overlaps, 5);
+  EXPECT_GT(separated, 5);
 }
 
 }  // namespace

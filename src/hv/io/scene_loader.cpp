@@ -89,6 +89,21 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       fields.validTo = optionalString(b, "valid_to", path + ": buildings");
       const auto footprints = readFootprints(p, fields, diag);
       scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
+      for (const Footprint& f : footprints) {
+        DateInterval valid;  // open-ended unless the attributes say otherwise
+        auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
+          if (!text || text->empty()) return;
+          if (const auto d = parseDate(*text)) {
+            (from ? valid.first : valid.last) = from ? d->first : d->last;
+          } else {
+            diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
+                      "' (ignored)");
+          }
+        };
+        bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
+        bound(f.validTo, fields.validTo.value_or("valid_to"), false);
+        scene.buildingValidity.push_back(valid);
+      }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (buildings left out)");
     }

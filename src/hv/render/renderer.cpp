@@ -3,6 +3,7 @@
 #include "hv/gpu/gl.h"
 #include "hv/ibr/depth_scheduler.h"
 #include "hv/ibr/slice_image.h"
+#include "hv/ibr/tile_culling.h"
 #include "hv/util/log.h"
 
 #include <algorithm>
@@ -18,7 +19,16 @@ using gpu::checkGlError;
 namespace {
 
 // Texture units, fixed for every program.
-enum Unit : GLint { kUnitImages = 0, kUnitDepthMaps = 1, kUnitParams = 2, kUnitViewDepth = 3, kUnitLookup = 4 };
+enum Unit : GLint {
+  kUnitImages = 0,
+  kUnitDepthMaps = 1,
+  kUnitParams = 2,
+  kUnitViewDepth = 3,
+  kUnitLookup = 4,
+  kUnitTileLists = 5,
+  kUnitViewBuilding = 6,
+  kUnitValidity = 7
+};
 
 void setNearestClamp(GLenum target) {
   glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -41,7 +51,19 @@ void uploadMat3(GLint loc, const glm::dmat3& m) {
   glUniformMatrix3fv(loc, 1, GL_FALSE, f);
 }
 
+enum ProgramIndex { kProgramDepth, kProgramViewDepth, kProgramShade, kProgramTileDepth };
+
 }  // namespace
+
+const std::vector<ProgramSource>& programSources() {
+  static const std::vector<ProgramSource> list = {
+      {"depth.vert", "depth.frag", {}},                        // photographs' depth maps
+      {"depth.vert", "depth.frag", {"HV_WRITE_BUILDING"}},     // the view's depth and building ids
+      {"fullscreen.vert", "ibr_shade.frag", {}},               // the blend
+      {"fullscreen.vert", "tile_depth.frag", {}},              // tile depth ranges for culling
+  };
+  return list;
+}
 
 struct Renderer::Impl {
   const Scene& scene;
@@ -50,7 +72,9 @@ struct Renderer::Impl {
   gpu::GlLimits limits;
   ibr::CameraIndex index;
 
-  gpu::Program depthProgram, shadeProgram;
+  gpu::Program depthProgram, viewDepthProgram, shadeProgram, tileDepthProgram;
+  gpu::Texture validityTexture, viewBuilding;
+  int validityWidth = 1;
   gpu::VertexArray meshVao, emptyVao;
   gpu::Buffer vertexBuffer, indexBuffer;
   GLsizei indexCount = 0;
@@ -71,7 +95,10 @@ struct Renderer::Impl {
   std::vector<bool> photoBroken;
   std::uint64_t frame = 0;
   gpu::Framebuffer depthFbo, viewFbo;
-  gpu::Texture viewDepth, viewColor, lookupTexture;
+  gpu::Texture viewDepth, viewColor, lookupTexture, tileRange, tileLists;
+  glm::ivec2 tileRangeSize{0};
+  bool cullingThisFrame = false;
+  int tilesX = 0;
   glm::ivec2 viewDepthSize{0}, viewColorSize{0};
 
   ibr::FramePlan plan;
@@ -88,8 +115,12 @@ struct Renderer::Impl {
 
   void init() {
     limits = gpu::queryLimits();
-    depthProgram = gpu::Program("depth.vert", "depth.frag");
-    shadeProgram = gpu::Program("fullscreen.vert", "ibr_shade.frag");
+    const auto& src = programSources();
+    auto link = [&](int i) { return gpu::Program(src[size_t(i)].vertex, src[size_t(i)].fragment, src[size_t(i)].defines); };
+    depthProgram = link(kProgramDepth);
+    viewDepthProgram = link(kProgramViewDepth);
+    shadeProgram = link(kProgramShade);
+    tileDepthProgram = link(kProgramTileDepth);
     uploadGeometry();
     allocateSlots();
     depthFbo = gpu::makeFramebuffer();
@@ -100,18 +131,40 @@ struct Renderer::Impl {
   }
 
   void uploadGeometry() {
+    // Per vertex: render-frame position (3), the days its surface existed (2), building index + 1.
+    constexpr int kStride = 6;
     std::vector<float> vertices;
     std::vector<std::uint32_t> indices;
+    const glm::vec2 always = ibr::gpuDays(DateInterval{});
     for (const Mesh* m : {&scene.terrain, &scene.buildings}) {
-      const auto base = std::uint32_t(vertices.size() / 3);
-      for (const auto& p : m->positions) {
-        const glm::dvec3 r = p - scene.origin;  // render frame: small floats (DESIGN.md §1)
-        vertices.insert(vertices.end(), {float(r.x), float(r.y), float(r.z)});
+      const bool isBuildings = m == &scene.buildings;
+      const auto base = std::uint32_t(vertices.size() / kStride);
+      // A building's vertices are its own (LOD1 meshes are appended per footprint).
+      std::vector<std::uint32_t> vertexTag(m->positions.size(), 0);
+      if (isBuildings && !m->triangleTags.empty())
+        for (size_t t = 0; t < m->triangles.size(); ++t)
+          for (int k = 0; k < 3; ++k) vertexTag[m->triangles[t][k]] = m->triangleTags[t];
+      for (size_t v = 0; v < m->positions.size(); ++v) {
+        const glm::dvec3 r = m->positions[v] - scene.origin;  // render frame: small floats (DESIGN.md §1)
+        glm::vec2 valid = always;
+        float building = 0.0f;
+        if (isBuildings) {
+          const std::uint32_t tag = vertexTag[v];
+          if (tag < scene.buildingValidity.size()) valid = ibr::gpuDays(scene.buildingValidity[tag]);
+          building = float(tag + 1);
+        }
+        vertices.insert(vertices.end(), {float(r.x), float(r.y), float(r.z), valid.x, valid.y, building});
       }
       for (const auto& t : m->triangles) indices.insert(indices.end(), {t.x + base, t.y + base, t.z + base});
       bounds.extend(m->bounds());
     }
+    // Padded so that flat geometry (a single wall, flat ground) still has a volume to sample.
     geometryBounds = bounds;
+    if (!geometryBounds.empty()) {
+      const glm::dvec3 pad(1e-3 * glm::length(geometryBounds.size()) + 1e-3);
+      geometryBounds.lo -= pad;
+      geometryBounds.hi += pad;
+    }
     for (const auto& p : scene.photos) bounds.extend(p.camera.center);
     indexCount = GLsizei(indices.size());
     meshVao = gpu::makeVertexArray();
@@ -120,12 +173,33 @@ struct Renderer::Impl {
     glBindVertexArray(meshVao.id());
     glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer.id());
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+    const GLsizei stride = kStride * sizeof(float);
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer.id());
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(),
                  GL_STATIC_DRAW);
     glBindVertexArray(0);
+
+    // Building validity, one texel per building index, rows of validityWidth.
+    const int n = std::max<int>(1, int(scene.buildingValidity.size()));
+    validityWidth = std::min(n, 1024);
+    const int rows = (n + validityWidth - 1) / validityWidth;
+    std::vector<float> validity(size_t(validityWidth) * rows * 4, 0.0f);
+    for (int i = 0; i < n; ++i) {
+      const glm::vec2 d =
+          size_t(i) < scene.buildingValidity.size() ? ibr::gpuDays(scene.buildingValidity[size_t(i)]) : always;
+      validity[size_t(i) * 4] = d.x;
+      validity[size_t(i) * 4 + 1] = d.y;
+    }
+    validityTexture = gpu::makeTexture();
+    glBindTexture(GL_TEXTURE_2D, validityTexture.id());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, validityWidth, rows, 0, GL_RGBA, GL_FLOAT, validity.data());
+    setNearestClamp(GL_TEXTURE_2D);
     checkGlError("geometry upload");
   }
 
@@ -220,11 +294,14 @@ struct Renderer::Impl {
     return slot;
   }
 
-  void drawDepth(const glm::dmat4& clip, double near, double far) {
-    depthProgram.use();
-    uploadMat4(depthProgram.uniform("u_clipFromRender"), clip);
-    glUniform1f(depthProgram.uniform("u_near"), float(near));
-    glUniform1f(depthProgram.uniform("u_far"), float(far));
+  void drawDepth(const gpu::Program& program, const glm::dmat4& clip, double near, double far,
+                 const DateInterval& date) {
+    program.use();
+    uploadMat4(program.uniform("u_clipFromRender"), clip);
+    glUniform1f(program.uniform("u_near"), float(near));
+    glUniform1f(program.uniform("u_far"), float(far));
+    const glm::vec2 days = ibr::gpuDays(date);
+    glUniform2f(program.uniform("u_date"), days.x, days.y);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -240,7 +317,8 @@ struct Renderer::Impl {
   }
 
   void renderDepthMap(int slot) {
-    const Camera& cam = scene.photos[size_t(slotPhoto[size_t(slot)])].camera;
+    const Photo& photo = scene.photos[size_t(slotPhoto[size_t(slot)])];
+    const Camera& cam = photo.camera;
     const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
     glBindFramebuffer(GL_FRAMEBUFFER, depthFbo.id());
     glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray.id(), 0, slot);
@@ -249,7 +327,7 @@ struct Renderer::Impl {
     glReadBuffer(GL_NONE);
     gpu::checkFramebuffer("depth map");
     glViewport(0, 0, depthSize, depthSize);
-    drawDepth(ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far);
+    drawDepth(depthProgram, ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo));
     depthScheduler.done(slot);
     ++stats.depthMapsRendered;
     ++stats.depthMapsThisFrame;
@@ -274,6 +352,10 @@ struct Renderer::Impl {
                    nullptr);
       setNearestClamp(GL_TEXTURE_2D);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+      viewBuilding = gpu::makeTexture();
+      glBindTexture(GL_TEXTURE_2D, viewBuilding.id());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, depthSz.x, depthSz.y, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+      setNearestClamp(GL_TEXTURE_2D);
       viewDepthSize = depthSz;
     }
     if (colorSz != viewColorSize) {
@@ -284,6 +366,11 @@ struct Renderer::Impl {
       viewColorSize = colorSz;
     }
     checkGlError("view targets");
+  }
+
+  static DateInterval photoDate(const Photo& p) {
+    if (p.date.empty()) return {};
+    return parseDate(p.date).value_or(DateInterval{});
   }
 
   double depthBiasAbsolute() const {
@@ -359,6 +446,7 @@ struct Renderer::Impl {
       params.push_back(ibr::makeImageParams(cam, scene.origin, ibr::sliceLayout(cam, sliceSize, slots[i]),
                                             plan.images[i].weight, fr, bias));
       params.back().photo = plan.images[i].photo;
+      params.back().date = photoDate(scene.photos[size_t(plan.images[i].photo)]);
       packed.resize(packed.size() + ibr::kTexelsPerImage * 4);
       ibr::packImageParams(params.back(), packed.data() + packed.size() - ibr::kTexelsPerImage * 4);
     }
@@ -381,20 +469,24 @@ struct Renderer::Impl {
     }
     ensureViewTargets(depthSz, {view.width, view.height});
     glBindFramebuffer(GL_FRAMEBUFFER, viewFbo.id());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, viewBuilding.id(), 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, viewDepth.id(), 0);
-    const GLenum none = GL_NONE;
-    glDrawBuffers(1, &none);
+    const GLenum color0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &color0);
     gpu::checkFramebuffer("view depth");
     glViewport(0, 0, depthSz.x, depthSz.y);
-    drawDepth(ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far);
+    const GLfloat noBuilding[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, noBuilding);
+    // The view shows today's geometry: every surface, whatever its dates.
+    drawDepth(viewDepthProgram, ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far, DateInterval{});
 
     if (distorted) uploadIdealLookup(view);
+    cullingThisFrame = settings.tileCulling && !params.empty();
+    if (cullingThisFrame) buildTileLists(view, vf, depthSz);
 
     // Shading pass into the colour target.
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, viewColor.id(), 0);
-    const GLenum color0 = GL_COLOR_ATTACHMENT0;
     glDrawBuffers(1, &color0);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     gpu::checkFramebuffer("view colour");
@@ -406,15 +498,84 @@ struct Renderer::Impl {
     out.rgba = shade(0, view.width, view.height);
     if (withCounts) {
       const Image8 enc = shade(1, view.width, view.height);
-      out.counts = Image16(view.width, view.height, 1);
-      for (int y = 0; y < view.height; ++y)
-        for (int x = 0; x < view.width; ++x)
-          out.counts.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
+      out.counts = decodeCounts(enc);
+      out.loopLengths = decodeCounts(shade(2, view.width, view.height));
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlError("render");
     stats.lastFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
+  }
+
+  static Image16 decodeCounts(const Image8& enc) {
+    Image16 out(enc.width, enc.height, 1);
+    for (int y = 0; y < enc.height; ++y)
+      for (int x = 0; x < enc.width; ++x) out.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
+    return out;
+  }
+
+  // Per-tile culling (ibr/tile_culling.h): the GPU reduces each tile of the view depth to its depth
+  // range, the CPU lists the images whose frustum may cover each tile's slab, the list goes to an
+  // R16UI texture that the shading loop walks. Leaves viewFbo bound.
+  void buildTileLists(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz) {
+    ibr::TileGrid grid;
+    grid.tileSize = std::max(1, settings.tileSize);
+    grid.depthSize = depthSz;
+    grid.rect = vf;
+    const glm::ivec2 tiles(grid.tilesX(), grid.tilesY());
+    if (tiles != tileRangeSize) {
+      tileRange = gpu::makeTexture();
+      glBindTexture(GL_TEXTURE_2D, tileRange.id());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tiles.x, tiles.y, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+      setNearestClamp(GL_TEXTURE_2D);
+      tileRangeSize = tiles;
+    }
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tileRange.id(), 0);
+    const GLenum color0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &color0);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    gpu::checkFramebuffer("tile depth ranges");
+    glViewport(0, 0, tiles.x, tiles.y);
+    tileDepthProgram.use();
+    glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
+    glBindTexture(GL_TEXTURE_2D, viewDepth.id());
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(tileDepthProgram.uniform("u_viewDepth"), kUnitViewDepth);
+    glUniform2i(tileDepthProgram.uniform("u_depthSize"), depthSz.x, depthSz.y);
+    glUniform1i(tileDepthProgram.uniform("u_tileSize"), grid.tileSize);
+    glBindVertexArray(emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    std::vector<std::uint8_t> rgba(size_t(tiles.x) * tiles.y * 4);
+    glReadPixels(0, 0, tiles.x, tiles.y, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    checkGlError("tile depth ranges");
+
+    const ibr::TileLists lists =
+        ibr::buildTileLists(view, scene.origin, grid, ibr::decodeTileDepth(rgba, grid), params);
+    stats.meanTileList = lists.meanCount();
+    stats.maxTileList = lists.maxCount();
+    const int width = lists.maxCount() + 1, rows = tiles.x * tiles.y;
+    if (width > limits.maxTextureSize || rows > limits.maxTextureSize) {
+      diag.warn("per-tile culling needs a " + std::to_string(width) + "x" + std::to_string(rows) +
+                " list texture, beyond MAX_TEXTURE_SIZE; this frame loops over every image");
+      cullingThisFrame = false;
+      return;
+    }
+    std::vector<std::uint16_t> table(size_t(width) * rows, 0);
+    for (int t = 0; t < rows; ++t) {
+      const auto& l = lists.lists[size_t(t)];
+      table[size_t(t) * width] = std::uint16_t(l.size());
+      std::copy(l.begin(), l.end(), table.begin() + std::ptrdiff_t(size_t(t) * width + 1));
+    }
+    tileLists = gpu::makeTexture();
+    glActiveTexture(GL_TEXTURE0 + kUnitTileLists);
+    glBindTexture(GL_TEXTURE_2D, tileLists.id());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R16UI, width, rows, 0, GL_RED_INTEGER, GL_UNSIGNED_SHORT, table.data());
+    setNearestClamp(GL_TEXTURE_2D);
+    glActiveTexture(GL_TEXTURE0);
+    tilesX = tiles.x;
+    checkGlError("tile lists");
   }
 
   void uploadIdealLookup(const Camera& view) {
@@ -456,6 +617,21 @@ struct Renderer::Impl {
     glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
     glUniform1i(p.uniform("u_idealLookup"), kUnitLookup);
     glUniform1i(p.uniform("u_useLookup"), distorted ? 1 : 0);
+    glActiveTexture(GL_TEXTURE0 + kUnitTileLists);
+    glBindTexture(GL_TEXTURE_2D, cullingThisFrame ? tileLists.id() : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(p.uniform("u_tileLists"), kUnitTileLists);
+    glActiveTexture(GL_TEXTURE0 + kUnitViewBuilding);
+    glBindTexture(GL_TEXTURE_2D, viewBuilding.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitValidity);
+    glBindTexture(GL_TEXTURE_2D, validityTexture.id());
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(p.uniform("u_viewBuilding"), kUnitViewBuilding);
+    glUniform1i(p.uniform("u_validity"), kUnitValidity);
+    glUniform1i(p.uniform("u_validityWidth"), validityWidth);
+    glUniform1i(p.uniform("u_culling"), cullingThisFrame ? 1 : 0);
+    glUniform1i(p.uniform("u_tileSize"), std::max(1, settings.tileSize));
+    glUniform1i(p.uniform("u_tilesX"), tilesX);
     glUniform2f(p.uniform("u_viewRectMin"), float(vf.pxMin.x), float(vf.pxMin.y));
     glUniform2f(p.uniform("u_viewRectInvSize"), float(1.0 / (vf.pxMax.x - vf.pxMin.x)),
                 float(1.0 / (vf.pxMax.y - vf.pxMin.y)));

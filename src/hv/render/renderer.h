@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace hv::render {
@@ -29,6 +30,10 @@ struct RenderSettings {
   // Progressive frames (a viewer): at most this many depth maps per frame, nearest camera first;
   // <= 0: all. Batch frames ignore it.
   int depthMapsPerFrame = 4;
+  // Per-tile image lists (ibr/tile_culling.h): each pixel loops over the images that may cover its
+  // tile instead of all the selected ones.
+  bool tileCulling = true;
+  int tileSize = 16;  // view-depth texels per tile side
 };
 
 enum class FrameMode {
@@ -39,15 +44,25 @@ enum class FrameMode {
 struct RenderOutput {
   Image8 rgba;           // alpha = 255 where some image contributed (coverage)
   Image16 counts;        // contributing images per pixel (when asked)
+  Image16 loopLengths;   // images each pixel's shading loop visited (when counts are asked)
 };
 
 struct RenderStats {
   int depthMapsRendered = 0;       // since construction
   int depthMapsThisFrame = 0;
   int imagesWaiting = 0;           // selected but left out of the last frame (depth map not current)
+  double meanTileList = 0.0;       // per-tile culling: mean and longest list of the last frame
+  int maxTileList = 0;
   int imagesLoaded = 0;
   double lastFrameMs = 0.0;
 };
+
+// The programs the renderer links (vertex, fragment, defines): the one list the shader test checks.
+struct ProgramSource {
+  std::string vertex, fragment;
+  std::vector<std::string> defines;
+};
+const std::vector<ProgramSource>& programSources();
 
 class Renderer {
  public:

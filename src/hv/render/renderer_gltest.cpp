@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <set>
 #include <fstream>
 
 namespace hv::render {
@@ -45,20 +46,19 @@ class RendererGlTest : public ::testing::Test {
 };
 
 TEST_F(RendererGlTest, EveryShaderCompilesAndLinks) {
-  int programs = 0;
-  for (const auto& name : gpu::shaderNames()) {
-    if (name.ends_with(".frag")) {
-      EXPECT_NO_THROW(gpu::Program("fullscreen.vert", name)) << name;
-      ++programs;
-    } else if (name.ends_with(".vert")) {
-      EXPECT_NO_THROW(gpu::Program(name, "depth.frag")) << name;
-      ++programs;
-    }
+  std::set<std::string> used;
+  for (const ProgramSource& p : programSources()) {
+    EXPECT_NO_THROW(gpu::Program(p.vertex, p.fragment, p.defines)) << p.vertex << " + " << p.fragment;
+    used.insert(p.vertex);
+    used.insert(p.fragment);
   }
-  EXPECT_GE(programs, 4);
-  // Every shader is GLSL ES 3.00 (the WebGL2 subset).
-  for (const auto& name : gpu::shaderNames())
-    if (!name.ends_with(".glsl")) EXPECT_EQ(gpu::findShaderSource(name)->rfind("#version 300 es", 0), 0u) << name;
+  // Every shader file is part of some program (shared chunks are included by them), and every one
+  // is GLSL ES 3.00 (the WebGL2 subset).
+  for (const auto& name : gpu::shaderNames()) {
+    if (name.ends_with(".glsl")) continue;
+    EXPECT_TRUE(used.count(name)) << name << " is not used by any program";
+    EXPECT_EQ(gpu::findShaderSource(name)->rfind("#version 300 es", 0), 0u) << name;
+  }
 }
 
 TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
@@ -280,6 +280,69 @@ TEST_F(RendererGlTest, BrokenImageIsReportedAndTheRestRenders) {
   EXPECT_NE(diag.errors[0].find("image"), std::string::npos) << diag.errors[0];
   EXPECT_EQ(out.rgba.at(40, 30, 2), 255);  // the good photograph textures the view
   EXPECT_EQ(renderer.lastPlan().images.size(), 1u);
+}
+
+}  // namespace
+}  // namespace hv::render
+
+namespace hv::render {
+namespace {
+
+// Issue 3, time: a photograph does not texture a building that did not exist at its date, and
+// sees through it in its depth map.
+TEST_F(RendererGlTest, PhotographsIgnoreBuildingsThatDidNotExistAtTheirDate) {
+  const glm::dvec3 o = kStreetOrigin;
+  Mesh all;
+  {
+    Scene s = testing::streetScene();
+    all = s.terrain;
+    all.append(s.buildings);
+  }
+  RayCaster caster(all);
+  auto scenario = [&](const std::string& photoDate, int& hiddenRed, int& nearRed, int& hiddenTotal) {
+    Scene scene = testing::streetScene();
+    // Tag the buildings: 0 = near (built in 1950), 1 = far (always there).
+    scene.buildings.triangleTags.assign(scene.buildings.triangles.size(), 1);
+    for (size_t t = 0; t < 12; ++t) scene.buildings.triangleTags[t] = 0;  // the near box's 12 triangles come first
+    DateInterval builtIn1950;
+    builtIn1950.first = parseDate("1950")->first;
+    scene.buildingValidity = {builtIn1950, DateInterval{}};
+    addPhoto(scene, testing::lookAt("red", o + glm::dvec3(0, -10, 6), o + glm::dvec3(0, 30, 10), 160, 120, 110),
+             testing::solidImage(160, 120, 255, 0, 0));
+    scene.photos.back().date = photoDate;
+    Diagnostics diag;
+    RenderSettings settings;
+    settings.blend.k = 1;
+    settings.depthSize = 512;
+    Renderer renderer(scene, settings, diag);
+    const Camera& red = scene.photos[0].camera;
+    hiddenRed = nearRed = hiddenTotal = 0;
+    // View of the far façade from between the buildings: which part is hidden from the photo today?
+    const Camera back = testing::lookAt("v", o + glm::dvec3(0, 20, 6), o + glm::dvec3(0, 30, 8), 160, 120, 80);
+    RenderOutput out = renderer.render(back);
+    for (int y = 0; y < back.height; y += 3)
+      for (int x = 0; x < back.width; x += 3) {
+        const auto hit = caster.intersect(back.center, back.rayDirection({x + 0.5, y + 0.5}), 0.0, 1e9);
+        if (!hit || hit->normal.y > -0.9 || !red.project(hit->position).inImage) continue;
+        const glm::dvec3 toP = hit->position - red.center;
+        if (glm::length(toP) - caster.intersect(red.center, toP, 0.0, 1e9)->t < 1.0) continue;
+        ++hiddenTotal;  // behind the near building as seen from the photograph
+        hiddenRed += out.rgba.at(x, y, 3) > 0;
+      }
+    // View of the near building's front: does it receive the photograph's pixels?
+    const Camera front = testing::lookAt("f", o + glm::dvec3(0, 2, 6), o + glm::dvec3(0, 10, 6), 80, 60, 40);
+    out = renderer.render(front);
+    nearRed = out.rgba.at(40, 30, 3) > 0 ? 1 : 0;
+    EXPECT_TRUE(diag.ok());
+  };
+  int hiddenRed = 0, nearRed = 0, hidden = 0;
+  scenario("1905-06-01", hiddenRed, nearRed, hidden);
+  EXPECT_GT(hidden, 50);
+  EXPECT_EQ(hiddenRed, hidden) << "a 1905 photograph sees the far façade through the 1950 building";
+  EXPECT_EQ(nearRed, 0) << "a 1905 photograph must not texture a building built in 1950";
+  scenario("1960", hiddenRed, nearRed, hidden);
+  EXPECT_EQ(hiddenRed, 0) << "in 1960 the near building hides the far façade";
+  EXPECT_EQ(nearRed, 1);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "hv/camera/camera.h"
 #include "hv/scene/mesh.h"
+#include "hv/util/dates.h"
 
 #include <string>
 #include <vector>
@@ -25,6 +26,9 @@ struct Scene {
   glm::dvec3 up{0.0, 0.0, 1.0};
   Mesh terrain;
   Mesh buildings;
+  // When each building existed, indexed by the buildings mesh's triangle tags (open-ended by
+  // default). A photograph does not texture a building that did not exist at its date.
+  std::vector<DateInterval> buildingValidity;
   std::vector<Photo> photos;
 
   Aabb bounds() const;  // geometry and camera centres

@@ -1,0 +1,56 @@
+// `histoview fly`: renders a camera path (hv/camera/camera_path.h) frame by frame to PNGs, either
+// converged frames (FrameMode::Batch) or through the progressive machinery a viewer uses
+// (FrameMode::Progressive: one render call per frame, the picture improving as depth maps arrive),
+// and optionally encodes them with ffmpeg.
+#pragma once
+
+#include "hv/camera/camera.h"
+#include "hv/render/renderer.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace hv::app {
+
+void addFlyCommand(CLI::App& app, int& exitCode);
+
+// What flyPath reports after each frame.
+struct FlyFrame {
+  int index = 0;  // 0-based
+  int total = 0;
+  std::string file;        // the PNG written
+  double ms = 0.0;         // this frame: render and PNG
+  double elapsedMs = 0.0;  // since the sequence started
+  bool converged = true;   // every selected image with a current depth map (Renderer::converged)
+  int imagesWaiting = 0;   // selected images left out of this frame (progressive)
+};
+using FlyProgress = std::function<void(const FlyFrame&)>;
+
+struct FlyResult {
+  int frames = 0;
+  int convergedFrames = 0;
+  double totalMs = 0.0;
+};
+
+// Renders every camera in order to outDir/<id>.png (RGB; outDir is created). `progressive`: one
+// FrameMode::Progressive call per frame, as a viewer would make; otherwise FrameMode::Batch, each
+// frame converged. Throws what the renderer or the PNG writer throws, naming the frame.
+FlyResult flyPath(render::Renderer& renderer, const std::vector<Camera>& frames, const std::string& outDir,
+                  bool progressive, const FlyProgress& progress = {});
+
+// One line of the progress bar, starting with '\r' so that each redraws the last:
+// "\r[########------------] frame 12/100  12%   85 ms/frame  ETA 0:07".
+std::string progressLine(const FlyFrame& frame);
+
+// The full path of an executable found on $PATH; empty when there is none.
+std::string findOnPath(const std::string& program);
+// ffmpeg's arguments (argv[0] included) to encode outDir/f00000.png ... as `video`.
+std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const std::string& outDir, double fps,
+                                         int frames, const std::string& video);
+
+}  // namespace hv::app
