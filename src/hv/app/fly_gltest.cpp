@@ -34,6 +34,9 @@ class FlyGlTest : public ::testing::Test {
     settings_.blend.sigma = 5.0;
     settings_.depthSize = 256;
     settings_.depthMapsPerFrame = 1;  // two images: the first progressive frame lacks one
+    // Decode on the calling thread: poll() then delivers exactly one image per frame, so the
+    // progressive sequence is deterministic (worker threads would make it depend on timing).
+    settings_.decodeThreads = 0;
   }
   void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
 

@@ -122,6 +122,7 @@ TEST_F(DemoCityGlTest, ProgressiveFramesConvergeToTheBatchFrame) {
   ASSERT_GT(selected, 3);
 
   Renderer progressive(city.scene, s, diag);
+  progressive.preload(view);  // images resident: what follows is the depth-map schedule alone
   int frames = 0;
   int previousWaiting = selected + 1;
   RenderOutput out;

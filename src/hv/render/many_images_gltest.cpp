@@ -98,3 +98,76 @@ TEST(ManyImagesGlTest, TwoHundredFiftySixPhotographsInOnePass) {
 
 }  // namespace
 }  // namespace hv::render
+
+namespace hv::render {
+namespace {
+
+TEST(ManyImagesGlTest, FourThousandPhotographsThroughSixtyFourSlots) {
+  testing::glContext();
+  gpu::clearGlErrors();
+  constexpr int kSide = 64;  // 64 x 64 patches of 1 m: 4096 photographs
+  const glm::dvec3 o = testing::kStreetOrigin;
+  Scene scene;
+  scene.origin = o;
+  scene.buildings.positions = {o + glm::dvec3(0, 10, 0), o + glm::dvec3(kSide, 10, 0),
+                               o + glm::dvec3(kSide, 10, kSide), o + glm::dvec3(0, 10, kSide)};
+  scene.buildings.triangles = {{0, 2, 1}, {0, 3, 2}};
+  const std::string dir = testing::makeTempDir("residency");
+  for (int i = 0; i < kSide * kSide; ++i) {
+    const glm::dvec3 c = o + glm::dvec3(i % kSide + 0.5, 10, i / kSide + 0.5);
+    Photo p;
+    p.camera = testing::lookAt("p" + std::to_string(i), c - glm::dvec3(0, 1, 0), c, 4, 4, 5.0);
+    p.imagePath = dir + "/" + p.camera.id + ".png";
+    const glm::ivec3 col(i % 256, (i / 256) * 16, 255 - i % 200);
+    writePng(p.imagePath, testing::solidImage(4, 4, std::uint8_t(col.r), std::uint8_t(col.g), std::uint8_t(col.b)));
+    scene.photos.push_back(p);
+  }
+  RenderSettings s;
+  s.blend.k = 64;
+  s.blend.sigma = 100.0;
+  s.depthSize = 16;
+  s.maxSlices = 64;                         // the slot budget
+  s.decodeMemoryBytes = 64 * 1024;          // the decode cap: a few tiny photographs at a time
+  Diagnostics diag;
+  Renderer renderer(scene, s, diag);
+  ASSERT_EQ(renderer.sliceCount(), 64);
+  // A view of an 8 x 8 block of patches needs exactly those 64 photographs.
+  auto blockView = [&](int bx, int by) {
+    const glm::dvec3 centre = o + glm::dvec3(bx * 8 + 4, 10, by * 8 + 4);
+    // Sees 7.9 m of the 8 m block at 8 m: no neighbouring photograph's frustum (0.8 m wide, centred
+    // 0.5 m beyond the block) reaches the view, so the 64 candidates are exactly the block's.
+    return testing::lookAt("v", centre - glm::dvec3(0, 8, 0), centre, 96, 96, 96.0 * 8.0 / 7.9);
+  };
+  auto checkBlock = [&](const RenderOutput& out, const Camera& view, int bx, int by) {
+    int ok = 0;
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        const int idx = (by * 8 + j) * kSide + bx * 8 + i;
+        const glm::dvec2 px = view.project(o + glm::dvec3(bx * 8 + i + 0.5, 10, by * 8 + j + 0.5)).pxIdeal;
+        const std::uint8_t* g = out.rgba.px(int(px.x), int(px.y));
+        ok += g[3] == 255 && g[0] == idx % 256 && g[1] == (idx / 256) * 16 && g[2] == 255 - idx % 200;
+      }
+    return ok;
+  };
+  const Camera first = blockView(1, 1);
+  const RenderOutput a = renderer.render(first);
+  EXPECT_EQ(checkBlock(a, first, 1, 1), 64) << "every patch of the block textured by its own photograph";
+  const int loadedFirst = renderer.stats().imagesLoaded;
+  EXPECT_LE(loadedFirst, 64);
+  // Elsewhere: the slots are reused (the first block's photographs are evicted)...
+  const Camera second = blockView(6, 5);
+  EXPECT_EQ(checkBlock(renderer.render(second), second, 6, 5), 64);
+  // ...and they come back when the view returns, giving the same picture.
+  const RenderOutput again = renderer.render(first);
+  EXPECT_EQ(again.rgba.data, a.rgba.data);
+  EXPECT_GT(renderer.stats().imagesLoaded, loadedFirst + 64);
+  // Memory: the slice arrays are sized from the slot budget, the decodes stay under their cap.
+  EXPECT_EQ(renderer.stats().sliceBytes, size_t(64) * (4 * 4 * 4 + 16 * 16 * 4));
+  EXPECT_LE(renderer.stats().decodePeakBytes, s.decodeMemoryBytes);
+  EXPECT_GT(renderer.stats().decodePeakBytes, 0u);
+  EXPECT_TRUE(diag.ok());
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+}  // namespace
+}  // namespace hv::render

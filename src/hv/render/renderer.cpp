@@ -2,6 +2,8 @@
 
 #include "hv/gpu/gl.h"
 #include "hv/ibr/depth_scheduler.h"
+#include "hv/ibr/image_loader.h"
+#include "hv/ibr/slot_cache.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/ibr/tile_culling.h"
 #include "hv/util/log.h"
@@ -81,17 +83,16 @@ struct Renderer::Impl {
   Aabb bounds;          // geometry and camera centres: depth ranges
   Aabb geometryBounds;  // geometry only: the frustum filter
 
-  // Slots: slice i of both arrays belongs to slotPhoto[i].
+  // Slots: slice i of both arrays holds cache.photoIn(i).
   ibr::SliceSize sliceSize;
   int depthSize = 0;
   int slotCount = 0;
   gpu::Texture imageArray, depthArray, paramsTexture;
   int paramsRows = 0;
-  std::vector<int> slotPhoto;
-  std::vector<std::uint64_t> slotLastUse;
+  ibr::SlotCache cache;
+  std::unique_ptr<ibr::ImageLoader> loader;
   ibr::DepthMapScheduler depthScheduler;
   std::vector<ibr::PinholeFrustum> slotFrustum;
-  std::unordered_map<int, int> photoSlot;
   std::vector<bool> photoBroken;
   std::uint64_t frame = 0;
   gpu::Framebuffer depthFbo, viewFbo;
@@ -225,8 +226,10 @@ struct Renderer::Impl {
     slotCount = std::min({settings.maxSlices, limits.maxArrayTextureLayers, byMemory,
                           std::max(1, int(scene.photos.size()))});
     slotCount = std::max(slotCount, 1);
-    slotPhoto.assign(size_t(slotCount), -1);
-    slotLastUse.assign(size_t(slotCount), 0);
+    cache = ibr::SlotCache(slotCount);
+    stats.sliceBytes = perSlot * size_t(slotCount);
+    loader = std::make_unique<ibr::ImageLoader>(sliceSize, std::max(0, settings.decodeThreads),
+                                                settings.decodeMemoryBytes, settings.blend.masks);
     depthScheduler.resize(slotCount);
     slotFrustum.assign(size_t(slotCount), {});
 
@@ -250,48 +253,55 @@ struct Renderer::Impl {
                ", depth maps " + std::to_string(depthSize) + "^2");
   }
 
-  // Loads a photograph into a slot (least recently used one not needed by this frame).
-  // Returns the slot, or -1 when the photo cannot be read (marked broken, error reported).
-  int acquire(int photo, const std::vector<bool>& pinned) {
-    if (auto it = photoSlot.find(photo); it != photoSlot.end()) {
-      slotLastUse[size_t(it->second)] = frame;
-      return it->second;
+  // Puts a decoded photograph into a slot (a free one, else the least recently used one that this
+  // frame does not need) and marks its depth map dirty. A decoding error marks the photo broken.
+  void install(ibr::LoadResult&& r, bool neededNow) {
+    const Photo& p = scene.photos[size_t(r.photo)];
+    if (!r.ok()) {
+      diag.error(r.error + " (camera '" + p.camera.id + "' skipped)");
+      photoBroken[size_t(r.photo)] = true;
+      return;
     }
-    int slot = -1;
-    for (int s = 0; s < slotCount; ++s) {
-      if (pinned[size_t(s)]) continue;
-      if (slot < 0 || slotPhoto[size_t(s)] < 0 ||
-          (slotPhoto[size_t(slot)] >= 0 && slotLastUse[size_t(s)] < slotLastUse[size_t(slot)]))
-        slot = s;
-      if (slotPhoto[size_t(s)] < 0) break;
-    }
-    if (slot < 0) return -1;
-    const Photo& p = scene.photos[size_t(photo)];
-    Image8 sliceImage;
-    try {
-      const Image8 colour = readImage(p.imagePath);
-      Image8 mask;
-      if (!p.maskPath.empty() && settings.blend.masks) mask = readImage(p.maskPath, 1);
-      sliceImage = ibr::makeSliceImage(p.camera, colour, mask, sliceSize, "camera '" + p.camera.id + "': image");
-    } catch (const InputError& e) {
-      diag.error(std::string(e.what()) + " (camera '" + p.camera.id + "' skipped)");
-      photoBroken[size_t(photo)] = true;
-      return -1;
-    }
-    if (slotPhoto[size_t(slot)] >= 0) photoSlot.erase(slotPhoto[size_t(slot)]);
-    slotPhoto[size_t(slot)] = photo;
-    photoSlot[photo] = slot;
-    slotLastUse[size_t(slot)] = frame;
-    depthScheduler.markDirty(slot);
+    const ibr::SlotCache::Grant grant = cache.acquire(r.photo, neededNow);
+    if (!grant || !grant.isNew) return;  // every slot pinned (it will be asked for again), or already there
+    depthScheduler.markDirty(grant.slot);
     ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(p.camera, 1.0);
     ibr::setDepthRange(fr, p.camera, bounds);
-    slotFrustum[size_t(slot)] = fr;
+    slotFrustum[size_t(grant.slot)] = fr;
     glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, slot, sliceSize.width, sliceSize.height, 1, GL_RGBA,
-                    GL_UNSIGNED_BYTE, sliceImage.data.data());
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, grant.slot, sliceSize.width, sliceSize.height, 1, GL_RGBA,
+                    GL_UNSIGNED_BYTE, r.slice.data.data());
     checkGlError("image upload");
     ++stats.imagesLoaded;
-    return slot;
+  }
+
+  // Residency (DESIGN.md §2 step 2): pins the plan's resident photos, asks the loader for the
+  // others (nearest first) and installs what it delivers: all of them in batch frames (waiting),
+  // what is ready in progressive ones. Returns false when a planned photo turned out broken.
+  bool makeResident(FrameMode mode) {
+    cache.unpinAll();
+    std::vector<int> missing;
+    std::vector<ibr::LoadRequest> requests;
+    for (const auto& im : plan.images) {
+      if (cache.pin(im.photo)) continue;
+      missing.push_back(im.photo);
+      requests.push_back({im.photo, &scene.photos[size_t(im.photo)], im.distance});
+    }
+    loader->request(requests);
+    auto needed = [&](int photo) { return std::find(missing.begin(), missing.end(), photo) != missing.end(); };
+    auto sink = [&](ibr::LoadResult&& r) {
+      const int photo = r.photo;
+      install(std::move(r), needed(photo));
+    };
+    if (mode == FrameMode::Batch) {
+      loader->wait(missing, sink);
+    } else {
+      for (auto& r : loader->poll()) sink(std::move(r));
+    }
+    stats.decodePeakBytes = loader->peakBytes();
+    for (int photo : missing)
+      if (photoBroken[size_t(photo)]) return false;
+    return true;
   }
 
   void drawDepth(const gpu::Program& program, const glm::dmat4& clip, double near, double far,
@@ -317,7 +327,7 @@ struct Renderer::Impl {
   }
 
   void renderDepthMap(int slot) {
-    const Photo& photo = scene.photos[size_t(slotPhoto[size_t(slot)])];
+    const Photo& photo = scene.photos[size_t(cache.photoIn(slot))];
     const Camera& cam = photo.camera;
     const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
     glBindFramebuffer(GL_FRAMEBUFFER, depthFbo.id());
@@ -386,9 +396,7 @@ struct Renderer::Impl {
     return ids;
   }
 
-  RenderOutput render(const Camera& view, bool withCounts, FrameMode mode) {
-    const auto t0 = std::chrono::steady_clock::now();
-    ++frame;
+  ibr::BlendSettings frameBlendSettings() {
     ibr::BlendSettings blend = settings.blend;
     if (blend.k > slotCount) {
       diag.warn("K = " + std::to_string(blend.k) + " exceeds the image slots available (" +
@@ -397,35 +405,45 @@ struct Renderer::Impl {
                 std::to_string(slotCount));
       blend.k = slotCount;
     }
-    // Plan, then make every selected image resident; a photo that fails to load is excluded and
-    // the frame is planned again, so the blend never counts an image it cannot sample.
-    std::vector<int> slots;
+    return blend;
+  }
+
+  // Plans the frame and makes every selected image resident (batch) or asks for them
+  // (progressive); a photo that fails to load is excluded and the frame planned again, so the
+  // blend never counts an image it cannot sample.
+  void planAndLoad(const Camera& view, ibr::BlendSettings& blend, FrameMode mode) {
     for (int attempt = 0;; ++attempt) {
       blend.exclude = excludedIds();
       plan = ibr::planFrame(scene, index, view, blend, geometryBounds);
-      std::vector<bool> pinned(size_t(slotCount), false);
-      for (const auto& im : plan.images)
-        if (auto it = photoSlot.find(im.photo); it != photoSlot.end()) pinned[size_t(it->second)] = true;
-      slots.clear();
-      bool failed = false;
-      for (const auto& im : plan.images) {
-        const int slot = acquire(im.photo, pinned);
-        if (slot < 0) {
-          failed = true;
-          break;
-        }
-        pinned[size_t(slot)] = true;
-        slots.push_back(slot);
-      }
-      if (!failed) break;
+      if (makeResident(mode)) return;
       if (attempt > int(scene.photos.size())) throw std::runtime_error("cannot make the selected images resident");
+    }
+  }
+
+  void preload(const Camera& view) {
+    ibr::BlendSettings blend = frameBlendSettings();
+    planAndLoad(view, blend, FrameMode::Batch);
+  }
+
+  RenderOutput render(const Camera& view, bool withCounts, FrameMode mode) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ++frame;
+    ibr::BlendSettings blend = frameBlendSettings();
+    planAndLoad(view, blend, mode);
+    // Slots of the planned images; -1 while a progressive frame still waits for the decode.
+    std::vector<int> slots;
+    std::vector<int> residentSlots;
+    std::vector<double> residentPriority;
+    for (const auto& im : plan.images) {
+      slots.push_back(cache.slotOf(im.photo));
+      if (slots.back() < 0) continue;
+      residentSlots.push_back(slots.back());
+      residentPriority.push_back(im.distance);
     }
     // Depth maps (DESIGN.md §2 step 3): all of them in batch mode, else the nearest Dmax.
     stats.depthMapsThisFrame = 0;
-    std::vector<double> priority;
-    for (const auto& im : plan.images) priority.push_back(im.distance);
     const int dmax = mode == FrameMode::Batch ? 0 : settings.depthMapsPerFrame;
-    for (int slot : depthScheduler.next(slots, priority, dmax)) renderDepthMap(slot);
+    for (int slot : depthScheduler.next(residentSlots, residentPriority, dmax)) renderDepthMap(slot);
 
     // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image. An image
     // whose depth map is not current yet (progressive frames) waits, unless occlusion is off.
@@ -434,7 +452,7 @@ struct Renderer::Impl {
     const double biasAbs = depthBiasAbsolute();
     stats.imagesWaiting = 0;
     for (size_t i = 0; i < plan.images.size(); ++i) {
-      if (blend.occlusion && depthScheduler.isDirty(slots[i])) {
+      if (slots[i] < 0 || (blend.occlusion && depthScheduler.isDirty(slots[i]))) {
         ++stats.imagesWaiting;
         continue;
       }
@@ -670,6 +688,7 @@ RenderOutput Renderer::render(const Camera& view, bool withCounts, FrameMode mod
   return impl_->render(view, withCounts, mode);
 }
 bool Renderer::converged() const { return impl_->stats.imagesWaiting == 0; }
+void Renderer::preload(const Camera& view) { impl_->preload(view); }
 const ibr::FramePlan& Renderer::lastPlan() const { return impl_->plan; }
 const std::vector<ibr::ImageParams>& Renderer::lastImageParams() const { return impl_->params; }
 const RenderSettings& Renderer::settings() const { return impl_->settings; }

@@ -30,6 +30,11 @@ struct RenderSettings {
   // Progressive frames (a viewer): at most this many depth maps per frame, nearest camera first;
   // <= 0: all. Batch frames ignore it.
   int depthMapsPerFrame = 4;
+  // Photographs are decoded off the render thread (ibr/image_loader.h) by this many workers; 0
+  // decodes on the calling thread (the browser build has no threads). Decodes in flight and
+  // decoded slices not yet uploaded never hold more than decodeMemoryBytes.
+  int decodeThreads = 2;
+  std::size_t decodeMemoryBytes = std::size_t(512) << 20;
   // Per-tile image lists (ibr/tile_culling.h): each pixel loops over the images that may cover its
   // tile instead of all the selected ones.
   bool tileCulling = true;
@@ -53,6 +58,8 @@ struct RenderStats {
   int imagesWaiting = 0;           // selected but left out of the last frame (depth map not current)
   double meanTileList = 0.0;       // per-tile culling: mean and longest list of the last frame
   int maxTileList = 0;
+  std::size_t sliceBytes = 0;      // GPU memory of the image and depth-map arrays (fixed at start)
+  std::size_t decodePeakBytes = 0; // most memory the image loader ever held
   int imagesLoaded = 0;
   double lastFrameMs = 0.0;
 };
@@ -77,6 +84,9 @@ class Renderer {
   RenderOutput render(const Camera& view, bool withCounts = false, FrameMode mode = FrameMode::Batch);
   // True when the last frame used every selected image with a current depth map.
   bool converged() const;
+  // Makes the images a view needs resident (waiting for their decodes) without rendering anything:
+  // a viewer's start-up, or a test of the depth-map schedule alone.
+  void preload(const Camera& view);
 
   const ibr::FramePlan& lastPlan() const;
   // The per-image parameters of the last frame, in the order the shader saw them.
