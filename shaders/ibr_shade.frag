@@ -10,9 +10,8 @@ precision highp sampler2D;
 precision highp sampler2DArray;
 
 #include "ibr_common.glsl"
+#include "image_binding.glsl"
 
-uniform highp sampler2DArray u_images;     // premultiplied RGBA8, alpha = mask
-uniform highp sampler2DArray u_depthMaps;  // linear depth in [0, 1] between near and far
 uniform highp sampler2D u_viewDepth;       // the view's geometry pass, same encoding
 uniform highp sampler2D u_idealLookup;     // distorted views: ideal pixel of each output pixel
 uniform highp sampler2D u_viewBuilding;    // building index + 1 of each view-depth texel (RGBA8)
@@ -104,10 +103,10 @@ void main() {
     if (existed.y < im.date.x || existed.x > im.date.y) continue;  // not built yet, or gone, at its date
     if (u_occlusion) {
       vec2 dt = (p - im.depthMin) * im.depthInvSize;
-      float zMap = mix(im.near, im.far, texture(u_depthMaps, vec3(dt, im.slice)).r);
+      float zMap = mix(im.near, im.far, hv_sampleDepth(int(im.slice), dt));
       if (z > zMap + hv_shadowBias(im, z, normal, normalize(P - im.C))) continue;  // shadowed (Brédif 2013 §2.2)
     }
-    vec4 texel = textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0);
+    vec4 texel = hv_sampleImage(int(im.slice), pd * im.uvScale);
     if (texel.a <= 0.0) continue;
     if (u_method == 1) {  // nearest: images are sorted by distance, the first that passes wins
       sum = texel.rgb;

@@ -39,6 +39,15 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)");
   cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated)")->delimiter(',');
   cmd.add_option("--depth-size", o.depthSize, "depth-map resolution")->check(CLI::Range(16, 16384));
+  cmd.add_option("--binding", o.binding,
+                 "array (texture arrays, default) or naive (a sampler2D per image and per depth map: the baseline)")
+      ->check(CLI::IsMember({"array", "naive"}));
+  cmd.add_option("--depth-maps-per-frame", o.depthMapsPerFrame,
+                 "progressive frames: depth maps rendered per frame, nearest camera first (Dmax)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--depth-budget-ms", o.depthBudgetMs,
+                 "progressive frames: render depth maps until this many ms are spent (at least one)")
+      ->check(CLI::NonNegativeNumber);
   cmd.add_option("--background", o.background, "background colour R,G,B (0-255)");
   cmd.add_option("--from", o.from,
                  "only photographs dated on or after DATE (ISO 8601; a partial date such as 1905 is the "
@@ -106,6 +115,9 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   s.blend.sigma = o.sigma;
   s.blend.exclude = o.exclude;
   s.depthSize = o.depthSize;
+  s.binding = o.binding == "naive" ? render::Binding::Naive : render::Binding::Array;
+  s.depthMapsPerFrame = o.depthMapsPerFrame;
+  s.depthBudgetMs = o.depthBudgetMs;
   s.background = parseColour(o.background);
   s.blend.window = timeWindow(o.from, o.to);
   s.blend.datedOnly = o.datedOnly;

@@ -30,6 +30,9 @@ struct ViewOptions {
   double sigma = -1.0;
   std::vector<std::string> exclude;
   int depthSize = 1024;
+  std::string binding = "array";   // array | naive (the baseline: a sampler2D per image)
+  int depthMapsPerFrame = 4;       // progressive frames (fly --progressive)
+  double depthBudgetMs = 0.0;      // progressive frames: time budget for depth maps instead
   std::string background = "0,0,0";
   std::string from, to;             // time window, ISO 8601 dates; empty: open on that side
   bool datedOnly = false;

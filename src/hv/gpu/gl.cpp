@@ -106,7 +106,10 @@ std::string preprocessShader(const std::string& file, const std::vector<std::str
     out << line << "\n";
     if (!versionSeen && line.rfind("#version", 0) == 0) {
       versionSeen = true;
-      for (const auto& d : defines) out << "#define " << d << "\n";
+      for (std::string d : defines) {
+        if (const auto eq = d.find('='); eq != std::string::npos) d[eq] = ' ';  // NAME=VALUE
+        out << "#define " << d << "\n";
+      }
     }
   }
   return out.str();

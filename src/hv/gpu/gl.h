@@ -75,7 +75,8 @@ Framebuffer makeFramebuffer();
 VertexArray makeVertexArray();
 
 // A linked program from two embedded shader files. `#include "x.glsl"` lines are replaced by the
-// embedded file; `defines` are inserted after the #version line. Throws with the info log.
+// embedded file; `defines` ("NAME" or "NAME=VALUE") are inserted after the #version line. Throws
+// with the info log.
 class Program {
  public:
   Program() = default;

@@ -138,6 +138,45 @@ TEST_F(DemoCityGlTest, ProgressiveFramesConvergeToTheBatchFrame) {
   EXPECT_TRUE(diag.ok());
 }
 
+TEST_F(DemoCityGlTest, DepthBudgetRendersAtLeastOneMapPerFrame) {
+  const DemoCity& city = demoCity();
+  Diagnostics diag;
+  RenderSettings s;
+  s.blend.k = 8;
+  s.depthMapsPerFrame = 100;
+  s.depthBudgetMs = 1e-3;  // spent by the first map: exactly one per frame
+  Renderer r(city.scene, s, diag);
+  r.preload(city.views[0].camera);
+  int frames = 0;
+  do {
+    r.render(city.views[0].camera, false, FrameMode::Progressive);
+    EXPECT_EQ(r.stats().depthMapsThisFrame, 1);
+  } while (!r.converged() && ++frames < 100);
+  EXPECT_EQ(frames + 1, int(r.lastPlan().images.size()));
+}
+
+TEST_F(DemoCityGlTest, NaiveBindingGivesTheSamePictureAsTextureArrays) {
+  const DemoCity& city = demoCity();
+  Diagnostics diag;
+  RenderSettings s;
+  s.blend.k = 8;
+  Renderer arrays(city.scene, s, diag);
+  s.binding = Binding::Naive;
+  Renderer naive(city.scene, s, diag);
+  ASSERT_GE(naive.sliceCount(), 8);  // K = 8 fits under the naive cap
+  std::vector<std::uint8_t> all(size_t(320) * 240, 1);
+  for (const Photo& v : city.views) {
+    const RenderOutput a = arrays.render(v.camera), n = naive.render(v.camera);
+    std::vector<std::uint8_t> covered(all.size());
+    for (size_t i = 0; i < covered.size(); ++i) covered[i] = a.rgba.data[4 * i + 3] > 0;
+    EXPECT_EQ(n.rgba.data.size(), a.rgba.data.size());
+    const double psnr = eval::compareImages(n.rgba, a.rgba, covered).psnr;
+    EXPECT_GE(psnr, 45.0) << v.camera.id;
+    for (size_t i = 0; i < covered.size(); ++i) EXPECT_EQ(n.rgba.data[4 * i + 3], a.rgba.data[4 * i + 3]);
+  }
+  EXPECT_TRUE(diag.ok());
+}
+
 TEST_F(DemoCityGlTest, BlendBeatsTheBaselinesOnHeldOutViews) {
   const DemoCity& city = demoCity();
   Diagnostics diag;

@@ -63,6 +63,9 @@ const std::vector<ProgramSource>& programSources() {
       {"depth.vert", "depth.frag", {"HV_WRITE_BUILDING"}},     // the view's depth and building ids
       {"fullscreen.vert", "ibr_shade.frag", {}},               // the blend
       {"fullscreen.vert", "tile_depth.frag", {}},              // tile depth ranges for culling
+      // The naive baseline; the renderer links it with its own count, this entry with one that any
+      // ES 3.0 context has units for (16 units: 6 for the pass, 2 per image).
+      {"fullscreen.vert", "ibr_shade.frag", {"HV_NAIVE", "HV_NAIVE_COUNT=5"}},
   };
   return list;
 }
@@ -88,6 +91,10 @@ struct Renderer::Impl {
   int depthSize = 0;
   int slotCount = 0;
   gpu::Texture imageArray, depthArray, paramsTexture;
+  // The naive binding: one 2D texture per slot for the photograph and one for its depth map, and
+  // the texture units they are bound to (those the shading pass leaves free).
+  std::vector<gpu::Texture> naiveImages, naiveDepths;
+  std::vector<GLint> naiveUnits;
   int paramsRows = 0;
   ibr::SlotCache cache;
   std::unique_ptr<ibr::ImageLoader> loader;
@@ -120,10 +127,14 @@ struct Renderer::Impl {
     auto link = [&](int i) { return gpu::Program(src[size_t(i)].vertex, src[size_t(i)].fragment, src[size_t(i)].defines); };
     depthProgram = link(kProgramDepth);
     viewDepthProgram = link(kProgramViewDepth);
-    shadeProgram = link(kProgramShade);
+    shadeProgram = link(kProgramShade);  // replaced below for the naive binding
     tileDepthProgram = link(kProgramTileDepth);
     uploadGeometry();
     allocateSlots();
+    if (naive()) {
+      const auto& sh = src[kProgramShade];
+      shadeProgram = gpu::Program(sh.vertex, sh.fragment, {"HV_NAIVE", "HV_NAIVE_COUNT=" + std::to_string(slotCount)});
+    }
     depthFbo = gpu::makeFramebuffer();
     viewFbo = gpu::makeFramebuffer();
     emptyVao = gpu::makeVertexArray();
@@ -204,6 +215,8 @@ struct Renderer::Impl {
     checkGlError("geometry upload");
   }
 
+  bool naive() const { return settings.binding == Binding::Naive; }
+
   void allocateSlots() {
     int w = 1, h = 1;
     for (const auto& p : scene.photos) {
@@ -226,6 +239,13 @@ struct Renderer::Impl {
     slotCount = std::min({settings.maxSlices, limits.maxArrayTextureLayers, byMemory,
                           std::max(1, int(scene.photos.size()))});
     slotCount = std::max(slotCount, 1);
+    if (naive()) {
+      // Two units per image, among those the shading pass does not use itself (kUnit* 2..7);
+      // the shader's chain has 16 entries at most.
+      for (GLint u = 0; u < limits.maxTextureImageUnits; ++u)
+        if (u < kUnitParams || u > kUnitValidity) naiveUnits.push_back(u);
+      slotCount = std::min(slotCount, std::min(16, int(naiveUnits.size()) / 2));
+    }
     cache = ibr::SlotCache(slotCount);
     stats.sliceBytes = perSlot * size_t(slotCount);
     loader = std::make_unique<ibr::ImageLoader>(sliceSize, std::max(0, settings.decodeThreads),
@@ -235,6 +255,25 @@ struct Renderer::Impl {
 
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (naive()) {
+      for (int i = 0; i < slotCount; ++i) {
+        naiveImages.push_back(gpu::makeTexture());
+        glBindTexture(GL_TEXTURE_2D, naiveImages.back().id());
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        naiveDepths.push_back(gpu::makeTexture());
+        glBindTexture(GL_TEXTURE_2D, naiveDepths.back().id());
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, depthSize, depthSize, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                     nullptr);
+        setNearestClamp(GL_TEXTURE_2D);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+      }
+      checkGlError("naive slices");
+      return;
+    }
     imageArray = gpu::makeTexture();
     glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
     glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, w, h, slotCount, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
@@ -268,9 +307,15 @@ struct Renderer::Impl {
     ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(p.camera, 1.0);
     ibr::setDepthRange(fr, p.camera, bounds);
     slotFrustum[size_t(grant.slot)] = fr;
-    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, grant.slot, sliceSize.width, sliceSize.height, 1, GL_RGBA,
-                    GL_UNSIGNED_BYTE, r.slice.data.data());
+    if (naive()) {
+      glBindTexture(GL_TEXTURE_2D, naiveImages[size_t(grant.slot)].id());
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, sliceSize.width, sliceSize.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                      r.slice.data.data());
+    } else {
+      glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
+      glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, grant.slot, sliceSize.width, sliceSize.height, 1, GL_RGBA,
+                      GL_UNSIGNED_BYTE, r.slice.data.data());
+    }
     checkGlError("image upload");
     ++stats.imagesLoaded;
   }
@@ -331,7 +376,10 @@ struct Renderer::Impl {
     const Camera& cam = photo.camera;
     const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
     glBindFramebuffer(GL_FRAMEBUFFER, depthFbo.id());
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray.id(), 0, slot);
+    if (naive())
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, naiveDepths[size_t(slot)].id(), 0);
+    else
+      glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray.id(), 0, slot);
     const GLenum none = GL_NONE;
     glDrawBuffers(1, &none);
     glReadBuffer(GL_NONE);
@@ -399,10 +447,14 @@ struct Renderer::Impl {
   ibr::BlendSettings frameBlendSettings() {
     ibr::BlendSettings blend = settings.blend;
     if (blend.k > slotCount) {
+      const std::string bound =
+          naive() ? "MAX_TEXTURE_IMAGE_UNITS = " + std::to_string(limits.maxTextureImageUnits) +
+                        " with the naive binding: two units per image, " +
+                        std::to_string(kUnitValidity - kUnitParams + 1) + " for the pass itself"
+                  : "MAX_ARRAY_TEXTURE_LAYERS = " + std::to_string(limits.maxArrayTextureLayers) +
+                        ", --max-slices and the memory budget";
       diag.warn("K = " + std::to_string(blend.k) + " exceeds the image slots available (" +
-                std::to_string(slotCount) + ", bounded by MAX_ARRAY_TEXTURE_LAYERS = " +
-                std::to_string(limits.maxArrayTextureLayers) + " and the memory budget); using K = " +
-                std::to_string(slotCount));
+                std::to_string(slotCount) + ", bounded by " + bound + "); using K = " + std::to_string(slotCount));
       blend.k = slotCount;
     }
     return blend;
@@ -443,7 +495,16 @@ struct Renderer::Impl {
     // Depth maps (DESIGN.md §2 step 3): all of them in batch mode, else the nearest Dmax.
     stats.depthMapsThisFrame = 0;
     const int dmax = mode == FrameMode::Batch ? 0 : settings.depthMapsPerFrame;
-    for (int slot : depthScheduler.next(residentSlots, residentPriority, dmax)) renderDepthMap(slot);
+    const bool budgeted = mode == FrameMode::Progressive && settings.depthBudgetMs > 0.0;
+    const auto depthStart = std::chrono::steady_clock::now();
+    for (int slot : depthScheduler.next(residentSlots, residentPriority, dmax)) {
+      if (budgeted && stats.depthMapsThisFrame > 0 &&
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - depthStart).count() >=
+              settings.depthBudgetMs)
+        break;
+      renderDepthMap(slot);
+      if (budgeted) glFinish();  // the budget is about GPU time: wait for the map to be drawn
+    }
 
     // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image. An image
     // whose depth map is not current yet (progressive frames) waits, unless occlusion is off.
@@ -618,10 +679,22 @@ struct Renderer::Impl {
   void bindShadeInputs(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted,
                        const ibr::BlendSettings& blend) {
     const gpu::Program& p = shadeProgram;
-    glActiveTexture(GL_TEXTURE0 + kUnitImages);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+    if (naive()) {
+      for (int k = 0; k < slotCount; ++k) {
+        const GLint imageUnit = naiveUnits[size_t(2 * k)], depthUnit = naiveUnits[size_t(2 * k + 1)];
+        glActiveTexture(GLenum(GL_TEXTURE0 + imageUnit));
+        glBindTexture(GL_TEXTURE_2D, naiveImages[size_t(k)].id());
+        glActiveTexture(GLenum(GL_TEXTURE0 + depthUnit));
+        glBindTexture(GL_TEXTURE_2D, naiveDepths[size_t(k)].id());
+        glUniform1i(p.uniform(("u_image" + std::to_string(k)).c_str()), imageUnit);
+        glUniform1i(p.uniform(("u_depth" + std::to_string(k)).c_str()), depthUnit);
+      }
+    } else {
+      glActiveTexture(GL_TEXTURE0 + kUnitImages);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
+      glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+    }
     glActiveTexture(GL_TEXTURE0 + kUnitParams);
     glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
     glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
@@ -629,8 +702,10 @@ struct Renderer::Impl {
     glActiveTexture(GL_TEXTURE0 + kUnitLookup);
     glBindTexture(GL_TEXTURE_2D, distorted ? lookupTexture.id() : 0);
     glActiveTexture(GL_TEXTURE0);
-    glUniform1i(p.uniform("u_images"), kUnitImages);
-    glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
+    if (!naive()) {
+      glUniform1i(p.uniform("u_images"), kUnitImages);
+      glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
+    }
     glUniform1i(p.uniform("u_params"), kUnitParams);
     glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
     glUniform1i(p.uniform("u_idealLookup"), kUnitLookup);

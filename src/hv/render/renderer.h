@@ -18,7 +18,16 @@
 
 namespace hv::render {
 
+// How photographs and depth maps reach the shader.
+enum class Binding {
+  Array,  // one texture2DArray of photographs, one of depth maps, parameters in a data texture
+  Naive,  // the baseline the papers improve on: a sampler2D per photograph and per depth map
+          // (2 texture units per image), so at most MAX_TEXTURE_IMAGE_UNITS / 2 images (minus the
+          // units the pass needs for itself) are blended
+};
+
 struct RenderSettings {
+  Binding binding = Binding::Array;
   ibr::BlendSettings blend;
   int depthSize = 1024;               // depth-map resolution (square)
   glm::dvec3 background{0.0};         // [0, 1] RGB where no image contributes
@@ -30,6 +39,9 @@ struct RenderSettings {
   // Progressive frames (a viewer): at most this many depth maps per frame, nearest camera first;
   // <= 0: all. Batch frames ignore it.
   int depthMapsPerFrame = 4;
+  // Alternatively (> 0), a time budget for a progressive frame's depth maps: maps are rendered,
+  // nearest camera first, until it is spent (at least one per frame, at most depthMapsPerFrame).
+  double depthBudgetMs = 0.0;
   // Photographs are decoded off the render thread (ibr/image_loader.h) by this many workers; 0
   // decodes on the calling thread (the browser build has no threads). Decodes in flight and
   // decoded slices not yet uploaded never hold more than decodeMemoryBytes.
