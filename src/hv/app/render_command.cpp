@@ -110,6 +110,8 @@ int runRender(const RenderOptions& o) {
       if (o.debug == "count") {
         writePng16(base + ".count.png", result.counts);
         writePng(base + ".count-preview.png", colorMapCounts(result.counts));
+        writePng16(base + ".loop.png", result.loopLengths);
+        writePng(base + ".loop-preview.png", colorMapCounts(result.loopLengths));
       }
       std::cout << "[" << (i + 1) << "/" << s->views.size() << "] " << base << ".png  (" << cam.width << "x"
                 << cam.height << ", " << s->renderer->lastPlan().images.size() << " images, " << std::fixed
@@ -139,7 +141,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   addViewOptions(*cmd, o->view);
   cmd->add_option("--out", o->out, "output directory")->required();
   cmd->add_flag("--coverage", o->coverage, "also write <id>.coverage.png (255 where some image contributed)");
-  cmd->add_option("--debug", o->debug, "count: write <id>.count.png (16-bit raw counts) and a colour preview")
+  cmd->add_option("--debug", o->debug, "count: write <id>.count.png (contributing images) and <id>.loop.png (images the shading loop "
+                  "visited), 16-bit raw counts, with colour previews")
       ->check(CLI::IsMember({"count"}));
   cmd->add_option("--method", o->method, "blend (default), nearest or no-occlusion")
       ->check(CLI::IsMember({"blend", "nearest", "no-occlusion"}));
