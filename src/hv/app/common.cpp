@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
@@ -27,6 +28,17 @@ CLI::Validator isoDate() {
 }
 
 }  // namespace
+
+void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body) {
+  cmd.callback([&exitCode, body = std::move(body)] {
+    try {
+      exitCode = body();
+    } catch (const std::exception& e) {
+      std::cerr << "\nerror: " << e.what() << "\n";
+      exitCode = 2;
+    }
+  });
+}
 
 void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("scene", o.scenePath, "scene.json")->required()->check(CLI::ExistingFile);

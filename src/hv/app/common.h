@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +21,10 @@ class App;
 }
 
 namespace hv::app {
+
+// Makes `body` the subcommand's action: its return value is the exit code; an exception is
+// printed as "error: ..." and gives exit code 2 (bad input never crashes the program).
+void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body);
 
 // Options shared by render, eval and fly.
 struct ViewOptions {

@@ -3,11 +3,15 @@
 // baselines on the ground truth.
 #include "hv/app/demo_command.h"
 
+#include "hv/app/common.h"
+
 #include "hv/demo/demo_city.h"
 #include "hv/eval/evaluate.h"
 #include "hv/gpu/context.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/scene_loader.h"
+
+#include "hv/app/common.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -94,14 +98,7 @@ void addDemoCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--views", o->demo.views, "number of held-out views")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--k", o->k, "images blended per pixel")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--generate-only", o->generateOnly, "only write the city (scene, photographs, truth)");
-  cmd->callback([o, &exitCode] {
-    try {
-      exitCode = runDemo(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      exitCode = 2;
-    }
-  });
+  setAction(*cmd, exitCode, [o] { return runDemo(*o); });
 }
 
 }  // namespace hv::app

@@ -53,14 +53,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--method", o->methods, "blend, nearest, no-occlusion (comma separated to compare)")
       ->delimiter(',');
   cmd->add_option("--json", o->json, "also write the report as JSON");
-  cmd->callback([o, &exitCode] {
-    try {
-      exitCode = runEval(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      exitCode = 2;
-    }
-  });
+  setAction(*cmd, exitCode, [o] { return runEval(*o); });
 }
 
 }  // namespace hv::app

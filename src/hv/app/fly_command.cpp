@@ -240,14 +240,7 @@ void addFlyCommand(CLI::App& app, int& exitCode) {
                 "render as a viewer does: one progressive frame per camera, improving as depth maps arrive "
                 "(default: every frame converged)");
   cmd->add_option("--video", o->video, "also encode the frames with ffmpeg (when installed), e.g. out.mp4");
-  cmd->callback([o, &exitCode] {
-    try {
-      exitCode = runFly(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "\nerror: " << e.what() << "\n";
-      exitCode = 2;
-    }
-  });
+  setAction(*cmd, exitCode, [o] { return runFly(*o); });
 }
 
 }  // namespace hv::app

@@ -146,14 +146,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({"count"}));
   cmd->add_option("--method", o->method, "blend (default), nearest or no-occlusion")
       ->check(CLI::IsMember({"blend", "nearest", "no-occlusion"}));
-  cmd->callback([o, &exitCode] {
-    try {
-      exitCode = runRender(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      exitCode = 2;
-    }
-  });
+  setAction(*cmd, exitCode, [o] { return runRender(*o); });
 }
 
 }  // namespace hv::app
