@@ -2,6 +2,7 @@
 
 #include "hv/app/common.h"
 #include "hv/camera/camera_path.h"
+#include "hv/io/camera_path_json.h"
 #include "hv/image/image.h"
 
 #include <CLI/CLI.hpp>

@@ -1,16 +1,11 @@
 #include "hv/camera/camera_path.h"
 
-#include "hv/io/cameras_json.h"
 
 #include <glm/gtc/quaternion.hpp>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace hv {
 
@@ -135,50 +130,5 @@ std::vector<Camera> pathFrames(const CameraPath& path, double fps) {
   return frames;
 }
 
-CameraPath parseCameraPath(const std::string& text, const std::string& file, Diagnostics& diag) {
-  CameraFileOptions opts;
-  opts.requireImages = false;
-  opts.checkImageFiles = false;
-  const std::string dir = std::filesystem::path(file).parent_path().string();
-  Diagnostics local;
-  std::vector<Photo> photos = parseCameraJson(text, file, dir.empty() ? "." : dir, opts, local);
-  diag.warnings.insert(diag.warnings.end(), local.warnings.begin(), local.warnings.end());
-  if (!local.ok())
-    throw InputError(
-        local.errors.front() +
-        (local.errors.size() > 1 ? " (and " + std::to_string(local.errors.size() - 1) + " more)" : "") +
-        "; every key camera of a path must be readable");
-  // parseCameraJson has already parsed and checked the document: every camera loaded, in order.
-  const nlohmann::json doc = nlohmann::json::parse(text);
-  const nlohmann::json& cams = doc.at("cameras");
-  std::vector<PathKey> keys;
-  for (size_t i = 0; i < photos.size(); ++i) {
-    PathKey k;
-    k.camera = std::move(photos[i].camera);
-    const nlohmann::json& j = cams.at(i);
-    if (j.contains("t") && !j["t"].is_null()) {
-      if (!j["t"].is_number())
-        throw InputError(file + ": camera '" + k.camera.id + "': t: expected a number of seconds, got " +
-                         j["t"].dump().substr(0, 40));
-      k.time = j["t"].get<double>();
-    } else {
-      k.time = keys.empty() ? 0.0 : keys.back().time + 1.0;
-    }
-    keys.push_back(std::move(k));
-  }
-  try {
-    return CameraPath(std::move(keys));
-  } catch (const InputError& e) {
-    throw InputError(file + ": " + e.what());
-  }
-}
-
-CameraPath readCameraPath(const std::string& path, Diagnostics& diag) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open camera path file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseCameraPath(ss.str(), path, diag);
-}
 
 }  // namespace hv

@@ -62,11 +62,6 @@ int pathFrameCount(const CameraPath& path, double fps);
 std::vector<Camera> pathFrames(const CameraPath& path, double fps);
 std::string frameId(int index);
 
-// Reads PATH.json. Cameras are read by hv::parseCameraJson (images neither required nor checked);
-// a key that cannot be read makes the whole path an InputError (a path silently missing a key
-// would fly elsewhere), as do a bad `t` and the CameraPath checks. Warnings go to `diag`.
-CameraPath readCameraPath(const std::string& path, Diagnostics& diag);
-CameraPath parseCameraPath(const std::string& text, const std::string& pathForErrors, Diagnostics& diag);
 
 // Interpolation primitives (exposed for the tests).
 // Cubic Hermite between p0 (at s = 0) and p1 (at s = 1) with tangents m0, m1 per unit of s.

@@ -1,4 +1,5 @@
 #include "hv/camera/camera_path.h"
+#include "hv/io/camera_path_json.h"
 
 #include "hv/io/cameras_json.h"
 
