@@ -8,6 +8,7 @@ packages=(
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri   # headless GLES 3 (EGL + Mesa llvmpipe)
   libgdal-dev libproj-dev libgeos-dev                   # rasters, vectors, CRSs; LOD1 triangulation
   libembree-dev                                         # CPU ray casting (demo ground truth, tests)
+  libassimp-dev                                         # arbitrary meshes (PLY, OBJ, glTF)
   libglm-dev libeigen3-dev nlohmann-json3-dev libnanoflann-dev libcli11-dev
   libstb-dev libpng-dev
   libgtest-dev libbenchmark-dev

@@ -18,18 +18,25 @@ struct EvalCommandOptions {
   std::string truth;
   std::vector<std::string> methods{"blend"};
   std::string json;
+  bool leaveOneOut = false;
 };
 
 int runEval(const EvalCommandOptions& o) {
   Diagnostics diag;
+  if (o.leaveOneOut == !o.view.viewsPath.empty())
+    throw std::invalid_argument("eval: give either --views (with --truth) or --leave-one-out");
+  if (!o.leaveOneOut && o.truth.empty()) throw std::invalid_argument("eval: --views needs --truth");
   eval::EvalOptions opt;
   opt.truthDir = o.truth;
+  opt.leaveOneOut = o.leaveOneOut;
   if (!o.view.size.empty()) opt.size = parseSize(o.view.size);
   opt.methods.clear();
   for (const auto& m : o.methods) opt.methods.push_back(eval::parseMethod(m));
   std::unique_ptr<Session> s = openSession(o.view, diag);
+  // Leave-one-out: each photograph is a view, rendered from the others.
+  const std::vector<Photo>& views = o.leaveOneOut ? s->scene.photos : s->views;
   const eval::EvalReport report =
-      eval::evaluate(*s->renderer, s->views, opt, diag, [](const std::string& l) { std::cerr << l << "\n"; });
+      eval::evaluate(*s->renderer, views, opt, diag, [](const std::string& l) { std::cerr << l << "\n"; });
   std::cout << eval::formatTable(report);
   if (!o.json.empty()) {
     std::ofstream f(o.json);
@@ -46,10 +53,13 @@ int runEval(const EvalCommandOptions& o) {
 void addEvalCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand("eval", "render views and score them (PSNR, SSIM) against ground-truth images");
   auto o = std::make_shared<EvalCommandOptions>();
-  addViewOptions(*cmd, o->view);
+  addViewOptions(*cmd, o->view, false);
+  cmd->add_option("--views", o->view.viewsPath, "cameras to render and score (cameras.json schema)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--truth", o->truth, "directory of ground-truth images <id>.png|jpg (+ <id>.coverage.png)")
-      ->required()
       ->check(CLI::ExistingDirectory);
+  cmd->add_flag("--leave-one-out", o->leaveOneOut,
+                "score each photograph rendered from the other photographs (instead of --views/--truth)");
   cmd->add_option("--method", o->methods, "blend, nearest, no-occlusion (comma separated to compare)")
       ->delimiter(',');
   cmd->add_option("--json", o->json, "also write the report as JSON");

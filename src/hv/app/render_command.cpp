@@ -44,6 +44,8 @@ int runInfo(const std::string& scenePath) {
   std::cout << "terrain    " << scene.terrain.positions.size() << " vertices, " << scene.terrain.triangles.size()
             << " triangles\n";
   std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
+  std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()
+            << " triangles\n";
   std::cout << "photos     " << scene.photos.size() << " (camera spacing " << std::setprecision(4)
             << scene.cameraSpacing() << ")\n";
   std::map<std::string, int> sizes;

@@ -54,17 +54,23 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
     const std::string id = v.camera.id;
     try {
       const Camera cam = opt.size.x > 0 ? v.camera.resized(opt.size.x, opt.size.y) : v.camera;
-      const std::string truthPath = findTruth(opt.truthDir, id);
+      const std::string truthPath = opt.leaveOneOut ? v.imagePath : findTruth(opt.truthDir, id);
       if (truthPath.empty())
         throw InputError(opt.truthDir + ": no truth image " + id + ".png or " + id + ".jpg");
-      const Image8 truth = readImage(truthPath, 3);
+      Image8 truth = readImage(truthPath, 3);
+      if (opt.leaveOneOut && (truth.width != cam.width || truth.height != cam.height))
+        truth = resizeImage(truth, cam.width, cam.height);
       if (truth.width != cam.width || truth.height != cam.height)
         throw InputError(truthPath + ": truth is " + std::to_string(truth.width) + "x" + std::to_string(truth.height) +
                          ", the view renders at " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
       const size_t n = size_t(cam.width) * cam.height;
       std::vector<std::uint8_t> scored(n, 1);
-      const fs::path covPath = fs::path(opt.truthDir) / (id + ".coverage.png");
-      if (fs::is_regular_file(covPath)) {
+      const fs::path covPath = opt.leaveOneOut ? fs::path(v.maskPath) : fs::path(opt.truthDir) / (id + ".coverage.png");
+      if (opt.leaveOneOut && !v.maskPath.empty()) {
+        Image8 mask = readImage(v.maskPath, 1);
+        if (mask.width != cam.width || mask.height != cam.height) mask = resizeImage(mask, cam.width, cam.height);
+        for (size_t i = 0; i < n; ++i) scored[i] = mask.data[i] > 0;
+      } else if (!opt.leaveOneOut && fs::is_regular_file(covPath)) {
         const Image8 cov = readImage(covPath.string(), 1);
         if (cov.width != cam.width || cov.height != cam.height)
           throw InputError(covPath.string() + ": coverage size differs from the truth's");
@@ -72,6 +78,10 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
       }
       std::vector<Image8> renders;
       std::vector<double> coverage;
+      if (opt.leaveOneOut) {
+        renderer.settings().blend.exclude = saved.blend.exclude;
+        renderer.settings().blend.exclude.push_back(id);
+      }
       for (Method m : opt.methods) {
         applyMethod(m, renderer.settings());
         render::RenderOutput out = renderer.render(cam);

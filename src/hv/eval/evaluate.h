@@ -23,6 +23,10 @@ struct EvalOptions {
   std::vector<Method> methods{Method::Blend};
   std::string truthDir;        // <id>.png or <id>.jpg, optional <id>.coverage.png
   glm::ivec2 size{0};          // output size; (0, 0): each view at its own size
+  // Leave-one-out: the views are the scene's photographs; each is rendered from the *other*
+  // photographs and scored against itself (resized to the output size), over its unmasked pixels.
+  // truthDir is not used.
+  bool leaveOneOut = false;
 };
 
 // Renders and scores every view. A view whose truth is missing or unreadable is reported in

@@ -35,7 +35,7 @@ CameraPath parseCameraPath(const std::string& text, const std::string& file, Dia
     if (j.contains("t") && !j["t"].is_null()) {
       if (!j["t"].is_number())
         throw InputError(file + ": camera '" + k.camera.id + "': t: expected a number of seconds, got " +
-                         j["t"].dump().substr(0, 40));
+                         std::string(j["t"].type_name()));
       k.time = j["t"].get<double>();
     } else {
       k.time = keys.empty() ? 0.0 : keys.back().time + 1.0;

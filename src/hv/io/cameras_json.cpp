@@ -13,11 +13,21 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// What a JSON value is, for messages: scalars as written, containers by type and size (never
+// dumped whole: a deeply nested value would recurse for as long as the file is deep).
+std::string describe(const json& v) {
+  if (v.is_array()) return "an array of " + std::to_string(v.size());
+  if (v.is_object()) return "an object";
+  if (v.is_null()) return "null";
+  std::string s = v.dump();
+  return s.size() > 40 ? s.substr(0, 40) + "..." : s;
+}
+
 // Field readers: each names what it expected, so the message says file, camera, field, expected.
 double number(const json& j, const char* field) {
   if (!j.contains(field)) throw InputError(std::string(field) + ": missing (expected a number)");
   const json& v = j.at(field);
-  if (!v.is_number()) throw InputError(std::string(field) + ": expected a number, got " + v.dump());
+  if (!v.is_number()) throw InputError(std::string(field) + ": expected a number, got " + describe(v));
   const double d = v.get<double>();
   if (!std::isfinite(d)) throw InputError(std::string(field) + ": expected a finite number");
   return d;
@@ -28,11 +38,11 @@ std::vector<double> numbers(const json& j, const char* field, size_t n) {
   const json& v = j.at(field);
   if (!v.is_array() || v.size() != n)
     throw InputError(std::string(field) + ": expected an array of " + std::to_string(n) + " numbers, got " +
-                     v.dump().substr(0, 80));
+                     describe(v));
   std::vector<double> out;
   for (const auto& e : v) {
     // nlohmann parses NaN/Infinity as invalid JSON, but null sneaks in for them in some writers.
-    if (!e.is_number()) throw InputError(std::string(field) + ": expected numbers, got " + e.dump());
+    if (!e.is_number()) throw InputError(std::string(field) + ": expected numbers, got " + describe(e));
     out.push_back(e.get<double>());
     if (!std::isfinite(out.back())) throw InputError(std::string(field) + ": expected finite numbers");
   }
@@ -41,7 +51,8 @@ std::vector<double> numbers(const json& j, const char* field, size_t n) {
 
 int positiveInt(const json& j, const char* field) {
   const double d = number(j, field);
-  if (d <= 0 || d != std::floor(d) || d > 65536) throw InputError(std::string(field) + ": expected a positive integer, got " + j.at(field).dump());
+  if (d <= 0 || d != std::floor(d) || d > 65536)
+    throw InputError(std::string(field) + ": expected a positive integer, got " + std::to_string(d));
   return int(d);
 }
 
@@ -112,7 +123,7 @@ std::vector<Photo> parseCameraJson(const std::string& text, const std::string& p
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers out of range (1e400)
     throw InputError(path + ": not valid JSON: " + e.what());
   }
   if (!doc.is_object() || !doc.contains("cameras") || !doc["cameras"].is_array())

@@ -2,6 +2,7 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/io/footprints.h"
+#include "hv/io/mesh_reader.h"
 #include "hv/io/raster.h"
 #include "hv/scene/lod1.h"
 #include "hv/util/log.h"
@@ -51,7 +52,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   json doc;
   try {
     doc = json::parse(ss.str());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers out of range (1e400)
     throw InputError(path + ": not valid JSON: " + e.what());
   }
   if (!doc.is_object()) throw InputError(path + ": expected a JSON object");
@@ -108,10 +109,19 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (buildings left out)");
     }
   }
+  if (doc.contains("mesh")) {
+    try {
+      scene.mesh = readMesh(sourcePath(doc, "mesh", dir, path));
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (mesh left out)");
+    }
+  }
   if (doc.contains("cameras")) {
     try {
       const std::string p = sourcePath(doc, "cameras", dir, path);
       const json& c = doc["cameras"];
+      if (c.contains("format") && !c["format"].is_string())
+        throw InputError(path + ": cameras.format: expected a string (\"native\")");
       const std::string format = c.value("format", "native");
       if (format != "native") throw InputError(path + ": cameras.format: expected \"native\", got \"" + format + "\"");
       scene.photos = readCameraFile(p, CameraFileOptions{}, diag);
@@ -121,7 +131,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   }
 
   // Keys this version knows; anything else is reported rather than silently ignored.
-  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "cameras"};
+  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "cameras"};
   for (const auto& [key, value] : doc.items()) {
     if (std::find(std::begin(kKnown), std::end(kKnown), key) == std::end(kKnown))
       diag.warn(path + ": " + key + ": not read by this version of histoview (ignored)");

@@ -148,7 +148,7 @@ struct Renderer::Impl {
     std::vector<float> vertices;
     std::vector<std::uint32_t> indices;
     const glm::vec2 always = ibr::gpuDays(DateInterval{});
-    for (const Mesh* m : {&scene.terrain, &scene.buildings}) {
+    for (const Mesh* m : {&scene.terrain, &scene.buildings, &scene.mesh}) {
       const bool isBuildings = m == &scene.buildings;
       const auto base = std::uint32_t(vertices.size() / kStride);
       // A building's vertices are its own (LOD1 meshes are appended per footprint).

@@ -8,6 +8,7 @@ namespace hv {
 Aabb Scene::bounds() const {
   Aabb b = terrain.bounds();
   b.extend(buildings.bounds());
+  b.extend(mesh.bounds());
   for (const auto& p : photos) b.extend(p.camera.center);
   return b;
 }

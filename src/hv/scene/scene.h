@@ -26,6 +26,7 @@ struct Scene {
   glm::dvec3 up{0.0, 0.0, 1.0};
   Mesh terrain;
   Mesh buildings;
+  Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
   // When each building existed, indexed by the buildings mesh's triangle tags (open-ended by
   // default). A photograph does not texture a building that did not exist at its date.
   std::vector<DateInterval> buildingValidity;
