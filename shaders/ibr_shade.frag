@@ -53,6 +53,59 @@ float hv_shadowBias(HvImage im, float z, vec3 n, vec3 toP) {
   return im.biasAbs + im.biasRel * z * (1.0 + tanTheta);
 }
 
+// The running blend of one pixel (Brédif 2013 eq. 1-2, premultiplied).
+struct HvBlend {
+  vec3 sum;
+  float alpha;
+  int count;
+  bool done;  // nearest: the first image that passes every test wins
+};
+
+// Whether image `im` may texture P: projection, distortion domain, image bounds, and whether the
+// surface existed at the photograph's date. Outputs the depth-map and image texture coordinates
+// and the depth of P in the image.
+bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out float z) {
+  vec2 p, pd;
+  dt = vec2(0.0);
+  uv = vec2(0.0);
+  if (!hv_project(im, P, p, pd, z)) return false;
+  if (existed.y < im.date.x || existed.x > im.date.y) return false;  // not built yet, or gone, at its date
+  dt = (p - im.depthMin) * im.depthInvSize;
+  uv = pd * im.uvScale;
+  return true;
+}
+
+// The shadow test against the depth map's stored value (Brédif 2013 §2.2).
+bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P) {
+  float zMap = mix(im.near, im.far, stored);
+  return z > zMap + hv_shadowBias(im, z, normal, normalize(P - im.C));
+}
+
+void hv_accumulate(HvImage im, vec4 texel, inout HvBlend b) {
+  if (texel.a <= 0.0) return;
+  if (u_method == 1) {  // nearest: images are sorted by distance, the first that passes wins
+    b = HvBlend(texel.rgb, texel.a, 1, true);
+    return;
+  }
+  if (im.weight <= 0.0) return;
+  b.sum += im.weight * texel.rgb;
+  b.alpha += im.weight * texel.a;
+  b.count += 1;
+}
+
+#ifdef HV_NAIVE
+void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, vec3 normal, vec2 existed,
+                  inout HvBlend b) {
+  if (b.done || i >= u_imageCount) return;
+  HvImage im = hv_fetchImage(i);
+  vec2 dt, uv;
+  float z;
+  if (!hv_applies(im, P, existed, dt, uv, z)) return;
+  if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P)) return;
+  hv_accumulate(im, textureLod(image, uv, 0.0), b);
+}
+#endif
+
 void main() {
   // Everything up to the normal runs in uniform control flow: derivatives are only defined there.
   vec2 pIdeal = gl_FragCoord.xy;
@@ -83,6 +136,59 @@ void main() {
     existed = texelFetch(u_validity, ivec2(index % u_validityWidth, index / u_validityWidth), 0).xy;
   }
 
+  HvBlend blend = HvBlend(vec3(0.0), 0.0, 0, false);
+#ifdef HV_NAIVE
+  // The naive binding: one step per selected image, each with its own samplers.
+  int n = u_imageCount;
+#if HV_NAIVE_COUNT > 0
+  hv_naiveStep(0, u_image0, u_depth0, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 1
+  hv_naiveStep(1, u_image1, u_depth1, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 2
+  hv_naiveStep(2, u_image2, u_depth2, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 3
+  hv_naiveStep(3, u_image3, u_depth3, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 4
+  hv_naiveStep(4, u_image4, u_depth4, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 5
+  hv_naiveStep(5, u_image5, u_depth5, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 6
+  hv_naiveStep(6, u_image6, u_depth6, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 7
+  hv_naiveStep(7, u_image7, u_depth7, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 8
+  hv_naiveStep(8, u_image8, u_depth8, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 9
+  hv_naiveStep(9, u_image9, u_depth9, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 10
+  hv_naiveStep(10, u_image10, u_depth10, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 11
+  hv_naiveStep(11, u_image11, u_depth11, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 12
+  hv_naiveStep(12, u_image12, u_depth12, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 13
+  hv_naiveStep(13, u_image13, u_depth13, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 14
+  hv_naiveStep(14, u_image14, u_depth14, P, normal, existed, blend);
+#endif
+#if HV_NAIVE_COUNT > 15
+  hv_naiveStep(15, u_image15, u_depth15, P, normal, existed, blend);
+#endif
+#else
   // The images to visit: this tile's list (hv::ibr::buildTileLists), or every selected image.
   int row = 0;
   int n = u_imageCount;
@@ -91,34 +197,20 @@ void main() {
     row = tile.y * u_tilesX + tile.x;
     n = int(texelFetch(u_tileLists, ivec2(0, row), 0).r);
   }
-  vec3 sum = vec3(0.0);
-  float alpha = 0.0;
-  int count = 0;
   for (int k = 0; k < n; ++k) {
     int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
     HvImage im = hv_fetchImage(i);
-    vec2 p, pd;
+    vec2 dt, uv;
     float z;
-    if (!hv_project(im, P, p, pd, z)) continue;
-    if (existed.y < im.date.x || existed.x > im.date.y) continue;  // not built yet, or gone, at its date
-    if (u_occlusion) {
-      vec2 dt = (p - im.depthMin) * im.depthInvSize;
-      float zMap = mix(im.near, im.far, hv_sampleDepth(int(im.slice), dt));
-      if (z > zMap + hv_shadowBias(im, z, normal, normalize(P - im.C))) continue;  // shadowed (Brédif 2013 §2.2)
-    }
-    vec4 texel = hv_sampleImage(int(im.slice), pd * im.uvScale);
-    if (texel.a <= 0.0) continue;
-    if (u_method == 1) {  // nearest: images are sorted by distance, the first that passes wins
-      sum = texel.rgb;
-      alpha = texel.a;
-      count = 1;
-      break;
-    }
-    if (im.weight <= 0.0) continue;
-    sum += im.weight * texel.rgb;
-    alpha += im.weight * texel.a;
-    ++count;
+    if (!hv_applies(im, P, existed, dt, uv, z)) continue;
+    if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P)) continue;
+    hv_accumulate(im, textureLod(u_images, vec3(uv, im.slice), 0.0), blend);
+    if (blend.done) break;
   }
+#endif
+  vec3 sum = blend.sum;
+  float alpha = blend.alpha;
+  int count = blend.count;
   if (u_mode != 0) {
     o_color = encodeCount(u_mode == 1 ? count : n);
     return;

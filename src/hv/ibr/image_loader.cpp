@@ -197,6 +197,14 @@ ImageLoader::Probe ImageLoader::probe(const Job& job) const {
     if (size < 0 || std::fseek(f.get(), 0, SEEK_SET) != 0) throw InputError(path + ": cannot read file");
     if (size > long(INT_MAX)) throw InputError(path + ": image file too large");
     info.fileBytes = std::uintmax_t(size);
+    // stbi_info parses JPEG marker segments (Huffman tables included) up to the frame header:
+    // check what it will read first (the first MiB; the decode checks the whole file).
+    {
+      std::vector<std::uint8_t> head(size_t(std::min<long>(size, 1L << 20)));
+      if (std::fread(head.data(), 1, head.size(), f.get()) != head.size() || std::fseek(f.get(), 0, SEEK_SET) != 0)
+        throw InputError(path + ": cannot read file");
+      checkImageBytes(head.data(), head.size(), path, head.size() == size_t(size));
+    }
     // Header only: stbi_info reads the few bytes up to the size fields and restores the position.
     if (!stbi_info_from_file(f.get(), &info.width, &info.height, &info.channels))
       throw InputError(decodeFailure(path));

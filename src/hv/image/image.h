@@ -31,6 +31,10 @@ using ImageF = ImageT<float>;
 Image8 readImage(const std::string& path, int wantChannels = 0);
 // Same, from memory (fuzzing, web).
 Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& nameForErrors, int wantChannels = 0);
+// Checks what stb_image is about to parse: a JPEG or PNG signature, and for a JPEG its marker
+// segments up to the scan (Huffman tables of at most 256 codes: Debian's stb_image 2.27 writes
+// past its tables otherwise). `complete` false: `bytes` is a prefix of the file. Throws InputError.
+void checkImageBytes(const std::uint8_t* bytes, size_t size, const std::string& name, bool complete);
 // 16-bit PNG reading (raw counts), for tests of --debug count.
 Image16 readPng16(const std::string& path);
 

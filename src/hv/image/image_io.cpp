@@ -27,7 +27,7 @@ bool isJpeg(const std::uint8_t* b, size_t n) { return n >= 3 && b[0] == 0xff && 
 // each Huffman table (DHT) holds at most 256 codes. stb_image 2.27 (Debian 12) trusts that count
 // and writes past its tables otherwise (found by fuzz/image_decode_fuzz), so such files are
 // rejected before stb sees them.
-void checkJpegSegments(const std::uint8_t* b, size_t n, const std::string& name) {
+void checkJpegSegments(const std::uint8_t* b, size_t n, const std::string& name, bool complete) {
   size_t pos = 2;  // after SOI
   while (pos + 4 <= n) {
     if (b[pos] != 0xff) throw InputError(name + ": JPEG: expected a marker at byte " + std::to_string(pos));
@@ -42,7 +42,11 @@ void checkJpegSegments(const std::uint8_t* b, size_t n, const std::string& name)
       continue;
     }
     const size_t len = size_t(b[pos + 2]) << 8 | b[pos + 3];
-    if (len < 2 || pos + 2 + len > n) throw InputError(name + ": JPEG: truncated segment at byte " + std::to_string(pos));
+    if (len < 2) throw InputError(name + ": JPEG: bad segment length at byte " + std::to_string(pos));
+    if (pos + 2 + len > n) {
+      if (!complete) return;  // a prefix of the file: the rest is checked when it is decoded
+      throw InputError(name + ": JPEG: truncated segment at byte " + std::to_string(pos));
+    }
     if (marker == 0xc4) {  // DHT: one or more tables of (class/id, 16 counts, values)
       size_t q = pos + 4;
       const size_t end = pos + 2 + len;
@@ -60,15 +64,19 @@ void checkJpegSegments(const std::uint8_t* b, size_t n, const std::string& name)
 
 }  // namespace
 
-Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& name, int wantChannels) {
-  if (size > size_t(INT32_MAX)) throw InputError(name + ": image file too large");
+void checkImageBytes(const std::uint8_t* bytes, size_t size, const std::string& name, bool complete) {
   // JPEG and PNG only: stb_image also guesses BMP, GIF, PSD, PIC, PNM, HDR and TGA (which has no
   // signature), formats the camera files do not promise.
   if (isJpeg(bytes, size)) {
-    checkJpegSegments(bytes, size, name);
+    checkJpegSegments(bytes, size, name, complete);
   } else if (!isPng(bytes, size)) {
     throw InputError(name + ": not a JPEG or PNG file (unknown signature)");
   }
+}
+
+Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& name, int wantChannels) {
+  if (size > size_t(INT32_MAX)) throw InputError(name + ": image file too large");
+  checkImageBytes(bytes, size, name, true);
   int w = 0, h = 0, n = 0;
   stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &w, &h, &n, wantChannels);
   if (!pixels) {

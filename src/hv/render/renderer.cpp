@@ -560,7 +560,8 @@ struct Renderer::Impl {
     drawDepth(viewDepthProgram, ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far, DateInterval{});
 
     if (distorted) uploadIdealLookup(view);
-    cullingThisFrame = settings.tileCulling && !params.empty();
+    // The naive binding walks every selected image (it is the baseline without culling).
+    cullingThisFrame = settings.tileCulling && !naive() && !params.empty();
     if (cullingThisFrame) buildTileLists(view, vf, depthSz);
 
     // Shading pass into the colour target.
@@ -680,12 +681,14 @@ struct Renderer::Impl {
                        const ibr::BlendSettings& blend) {
     const gpu::Program& p = shadeProgram;
     if (naive()) {
+      // The k-th selected image on the k-th sampler pair: the unrolled shader needs no indexing.
       for (int k = 0; k < slotCount; ++k) {
         const GLint imageUnit = naiveUnits[size_t(2 * k)], depthUnit = naiveUnits[size_t(2 * k + 1)];
+        const int slot = k < int(params.size()) ? params[size_t(k)].layout.slice : 0;
         glActiveTexture(GLenum(GL_TEXTURE0 + imageUnit));
-        glBindTexture(GL_TEXTURE_2D, naiveImages[size_t(k)].id());
+        glBindTexture(GL_TEXTURE_2D, naiveImages[size_t(slot)].id());
         glActiveTexture(GLenum(GL_TEXTURE0 + depthUnit));
-        glBindTexture(GL_TEXTURE_2D, naiveDepths[size_t(k)].id());
+        glBindTexture(GL_TEXTURE_2D, naiveDepths[size_t(slot)].id());
         glUniform1i(p.uniform(("u_image" + std::to_string(k)).c_str()), imageUnit);
         glUniform1i(p.uniform(("u_depth" + std::to_string(k)).c_str()), depthUnit);
       }
