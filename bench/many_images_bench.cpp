@@ -22,6 +22,8 @@
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
 
+#include "bench_common.h"
+
 #include <sched.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -88,41 +90,8 @@ constexpr int kMemCols = 256;
 constexpr int kMemSlots = 64;
 constexpr double kMemStep = 6.0;  // metres between successive views
 
-using Clock = std::chrono::steady_clock;
+using namespace hv::bench;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-// Process CPU time (every llvmpipe and decoder thread included).
-double cpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-struct Timing {
-  double wall = 0.0, cpu = 0.0;  // ms
-};
-
-template <typename F>
-Timing measure(F&& f) {
-  const double c0 = cpuMs();
-  const auto t0 = Clock::now();
-  f();
-  return {msSince(t0), cpuMs() - c0};
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-Timing median(const std::vector<Timing>& v) {
-  std::vector<double> w, c;
-  for (const auto& t : v) w.push_back(t.wall), c.push_back(t.cpu);
-  return {median(w), median(c)};
-}
 
 double peakRssMiB() {
   rusage ru{};
@@ -149,29 +118,6 @@ double currentRssMiB() {
 
 double mib(std::size_t bytes) { return bytes / (1024.0 * 1024.0); }
 
-struct WorkDir {
-  fs::path path;
-  bool keep = false;
-  ~WorkDir() {
-    if (keep || path.empty()) return;
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-int cpuCount() {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof(set), &set) == 0) return CPU_COUNT(&set);
-  return int(sysconf(_SC_NPROCESSORS_ONLN));
-}
-
-std::string loadAverage() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  if (!(f >> a >> b >> c)) return "unknown";
-  return a + " " + b + " " + c;
-}
 
 void rule() { std::printf("%s\n", std::string(100, '-').c_str()); }
 

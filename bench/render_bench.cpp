@@ -19,6 +19,8 @@
 #include "hv/render/renderer.h"
 #include "hv/util/diagnostics.h"
 
+#include "bench_common.h"
+
 #include <sched.h>
 #include <unistd.h>
 
@@ -64,80 +66,8 @@ constexpr int kDepthSteadyRepeats = 3;
 // evicted and loaded twice while the depth maps are counted.
 constexpr std::size_t kDepthMemoryBudget = std::size_t(2) << 30;
 
-using Clock = std::chrono::steady_clock;
+using namespace hv::bench;
 
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// Process CPU time (every llvmpipe thread included). Other processes on a shared machine inflate
-// wall time a lot (they take cores away) and CPU time much less, so parts 2 and 3 print both.
-double cpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-template <typename F>
-double timeMs(F&& f) {
-  const auto t0 = Clock::now();
-  f();
-  return msSince(t0);
-}
-
-struct Timing {
-  double wall = 0.0, cpu = 0.0;  // ms
-  Timing& operator+=(const Timing& o) {
-    wall += o.wall;
-    cpu += o.cpu;
-    return *this;
-  }
-};
-
-template <typename F>
-Timing measure(F&& f) {
-  const double c0 = cpuMs();
-  const double wall = timeMs(f);
-  return {wall, cpuMs() - c0};
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-Timing median(const std::vector<Timing>& v) {
-  std::vector<double> w, c;
-  for (const auto& t : v) w.push_back(t.wall), c.push_back(t.cpu);
-  return {median(w), median(c)};
-}
-
-// The generated cities live in a temporary directory removed at exit unless --keep names one.
-struct WorkDir {
-  fs::path path;
-  bool keep = false;
-  ~WorkDir() {
-    if (keep || path.empty()) return;
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-int cpuCount() {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  // Like nproc: the CPUs this process may run on, not the machine's total.
-  if (sched_getaffinity(0, sizeof(set), &set) == 0) return CPU_COUNT(&set);
-  return int(sysconf(_SC_NPROCESSORS_ONLN));
-}
-
-std::string loadAverage() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  if (!(f >> a >> b >> c)) return "unknown";
-  return a + " " + b + " " + c;
-}
 
 // A held-out view as a 1280x720 frame: scaled to 1280x960 (same aspect) and cropped to the middle
 // 720 rows by moving the principal point, so the field of view is the view's horizontally.
