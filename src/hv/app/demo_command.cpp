@@ -64,9 +64,7 @@ int runDemo(const DemoCommandOptions& o) {
   std::cout << "rendering " << views.size() << " views (K = " << o.k << ") into " << renderDir << "\n";
   for (const Photo& v : views) {
     const render::RenderOutput out = renderer.render(v.camera);
-    Image8 rgb(v.camera.width, v.camera.height, 3);
-    for (size_t i = 0; i < size_t(v.camera.width) * v.camera.height; ++i)
-      for (int c = 0; c < 3; ++c) rgb.data[3 * i + c] = out.rgba.data[4 * i + c];
+    const Image8 rgb = rgbOf(out.rgba);
     const std::string path = (fs::path(renderDir) / (v.camera.id + ".png")).string();
     writePng(path, rgb);
     std::cout << "  " << path << "  (" << std::setprecision(0) << renderer.stats().lastFrameMs << " ms)\n";

@@ -40,14 +40,6 @@ std::string duration(double seconds) {
   return out.str();
 }
 
-Image8 rgbOf(const Image8& rgba) {
-  Image8 rgb(rgba.width, rgba.height, 3);
-  for (int y = 0; y < rgba.height; ++y)
-    for (int x = 0; x < rgba.width; ++x)
-      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = rgba.at(x, y, c);
-  return rgb;
-}
-
 // Runs argv[0] (looked up on $PATH) and waits; its exit status, or -1 when it could not start.
 // posix_spawn rather than system(): no shell, so paths need no quoting.
 int runProgram(const std::vector<std::string>& args) {
@@ -103,13 +95,7 @@ int runFly(const FlyOptions& o) {
       std::cerr
           << "warning: --video: ffmpeg is not on PATH; the frames will be written as PNGs but not encoded\n";
   }
-  std::unique_ptr<Session> s;
-  try {
-    s = openSession(o.view, diag);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
+  const std::unique_ptr<Session> s = openSession(o.view, diag);
   std::cout << "flying " << frames.size() << " frame(s) of " << frames.front().width << "x"
             << frames.front().height << " at " << o.fps << " fps ("
             << (o.progressive ? "progressive" : "converged") << " frames) to " << o.out << "\n";

@@ -83,13 +83,7 @@ struct RenderOptions {
 
 int runRender(const RenderOptions& o) {
   Diagnostics diag;
-  std::unique_ptr<Session> s;
-  try {
-    s = openSession(o.view, diag);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
+  const std::unique_ptr<Session> s = openSession(o.view, diag);
   if (o.method == "nearest") s->renderer->settings().blend.method = ibr::BlendMethod::Nearest;
   if (o.method == "no-occlusion") s->renderer->settings().blend.occlusion = false;
   fs::create_directories(o.out);
@@ -99,13 +93,8 @@ int runRender(const RenderOptions& o) {
     try {
       const Camera cam = resizeView(v.camera, o.view.size);
       const auto result = s->renderer->render(cam, o.debug == "count");
-      Image8 rgb(cam.width, cam.height, 3);
-      Image8 cov(cam.width, cam.height, 1);
-      for (int y = 0; y < cam.height; ++y)
-        for (int x = 0; x < cam.width; ++x) {
-          for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = result.rgba.at(x, y, c);
-          cov.at(x, y, 0) = result.rgba.at(x, y, 3) > 0 ? 255 : 0;
-        }
+      const Image8 rgb = rgbOf(result.rgba);
+      const Image8 cov = alphaMask(result.rgba);
       const std::string base = (fs::path(o.out) / v.camera.id).string();
       writePng(base + ".png", rgb);
       if (o.coverage) writePng(base + ".coverage.png", cov);

@@ -38,6 +38,10 @@ void checkImageBytes(const std::uint8_t* bytes, size_t size, const std::string& 
 // 16-bit PNG reading (raw counts), for tests of --debug count.
 Image16 readPng16(const std::string& path);
 
+// The colour of an RGBA image (alpha dropped), and its alpha as a mask (255 where alpha > 0).
+Image8 rgbOf(const Image8& rgba);
+Image8 alphaMask(const Image8& rgba);
+
 // PNG writers (libpng). Throw std::runtime_error naming the file on failure.
 void writePng(const std::string& path, const Image8& image);
 void writePng16(const std::string& path, const Image16& image);

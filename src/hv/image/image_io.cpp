@@ -170,6 +170,21 @@ void writeJpeg(const std::string& path, const Image8& img, int quality) {
     throw std::runtime_error(path + ": cannot write JPEG");
 }
 
+Image8 rgbOf(const Image8& rgba) {
+  Image8 rgb(rgba.width, rgba.height, 3);
+  const size_t n = size_t(rgba.width) * rgba.height;
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) rgb.data[3 * i + size_t(c)] = rgba.data[size_t(rgba.channels) * i + size_t(c)];
+  return rgb;
+}
+
+Image8 alphaMask(const Image8& rgba) {
+  Image8 mask(rgba.width, rgba.height, 1);
+  const size_t n = size_t(rgba.width) * rgba.height;
+  for (size_t i = 0; i < n; ++i) mask.data[i] = rgba.data[size_t(rgba.channels) * i + 3] > 0 ? 255 : 0;
+  return mask;
+}
+
 Image8 resizeImage(const Image8& src, int width, int height) {
   // stb_image_resize's default filters (Mitchell when shrinking, so large reductions do not alias;
   // Catmull-Rom when enlarging). Pixel centres stay aligned: the image maps onto [0,W]x[0,H].
