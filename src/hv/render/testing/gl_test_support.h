@@ -15,6 +15,8 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace hv::testing {
 
@@ -25,11 +27,23 @@ inline gpu::Context& glContext() {
   return *ctx;
 }
 
+// Directories made by makeTempDir, removed when the test process exits (a demo city or 4096
+// photographs per process would otherwise pile up in /tmp run after run).
+struct TempDirs {
+  std::vector<std::filesystem::path> dirs;
+  ~TempDirs() {
+    std::error_code ec;
+    for (const auto& d : dirs) std::filesystem::remove_all(d, ec);
+  }
+};
+
 inline std::string makeTempDir(const std::string& name) {
+  static TempDirs registry;  // constructed first, so destroyed after the statics that use its dirs
   const auto dir = std::filesystem::temp_directory_path() /
                    ("histoview-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  registry.dirs.push_back(dir);
   return dir.string();
 }
 
