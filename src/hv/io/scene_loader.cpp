@@ -2,6 +2,7 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/io/footprints.h"
+#include "hv/io/itowns_cameras.h"
 #include "hv/io/mesh_reader.h"
 #include "hv/io/raster.h"
 #include "hv/scene/lod1.h"
@@ -118,17 +119,34 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   }
   if (doc.contains("cameras")) {
     try {
-      const std::string p = sourcePath(doc, "cameras", dir, path);
       const json& c = doc["cameras"];
+      if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
       if (c.contains("format") && !c["format"].is_string())
-        throw InputError(path + ": cameras.format: expected a string (\"native\")");
+        throw InputError(path + ": cameras.format: expected a string (\"native\" or \"itowns\")");
       const std::string format = c.value("format", "native");
-      if (format != "native") throw InputError(path + ": cameras.format: expected \"native\", got \"" + format + "\"");
-      scene.photos = readCameraFile(p, CameraFileOptions{}, diag);
+      auto file = [&](const char* key) {
+        if (!c.contains(key) || !c[key].is_string())
+          throw InputError(path + ": cameras." + key + ": expected a path string");
+        const fs::path p = c[key].get<std::string>();
+        return (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+      };
+      if (format == "native") {
+        scene.photos = readCameraFile(sourcePath(doc, "cameras", dir, path), CameraFileOptions{}, diag);
+      } else if (format == "itowns") {
+        // The image pattern is a path pattern, or a JSON file of per-panorama patterns.
+        if (!c.contains("images") || !c["images"].is_string())
+          throw InputError(path + ": cameras.images: expected a pattern with {panoId} and {cameraId}");
+        std::string images = c["images"].get<std::string>();
+        if (fs::path(images).extension() == ".json") images = file("images");
+        scene.photos = readITownsCameras({file("orientations"), file("calibration"), images, dir}, diag);
+      } else {
+        throw InputError(path + ": cameras.format: expected \"native\" or \"itowns\", got \"" + format + "\"");
+      }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");
     }
   }
+
 
   // Keys this version knows; anything else is reported rather than silently ignored.
   static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "cameras"};
