@@ -2,6 +2,7 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/io/footprints.h"
+#include "hv/io/colmap_cameras.h"
 #include "hv/io/itowns_cameras.h"
 #include "hv/io/mesh_reader.h"
 #include "hv/io/raster.h"
@@ -122,7 +123,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       const json& c = doc["cameras"];
       if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
       if (c.contains("format") && !c["format"].is_string())
-        throw InputError(path + ": cameras.format: expected a string (\"native\" or \"itowns\")");
+        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\" or \"colmap\")");
       const std::string format = c.value("format", "native");
       auto file = [&](const char* key) {
         if (!c.contains(key) || !c[key].is_string())
@@ -139,8 +140,11 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
         std::string images = c["images"].get<std::string>();
         if (fs::path(images).extension() == ".json") images = file("images");
         scene.photos = readITownsCameras({file("orientations"), file("calibration"), images, dir}, diag);
+      } else if (format == "colmap") {
+        scene.photos = readColmapModel(file("path"), file("images"), diag);
       } else {
-        throw InputError(path + ": cameras.format: expected \"native\" or \"itowns\", got \"" + format + "\"");
+        throw InputError(path + ": cameras.format: expected \"native\", \"itowns\" or \"colmap\", got \"" + format +
+                         "\"");
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");
