@@ -125,20 +125,8 @@ void rule() { std::printf("%s\n", std::string(100, '-').c_str()); }
 const glm::dvec3 kOrigin{651000.0, 6862000.0, 40.0};
 constexpr double kWallY = 10.0;
 
-// A pinhole camera at `center` looking at `target`, z up (image y down).
 hv::Camera lookAt(const std::string& id, glm::dvec3 center, glm::dvec3 target, int w, int h, double focal) {
-  hv::Camera c;
-  c.id = id;
-  c.width = w;
-  c.height = h;
-  c.center = center;
-  const glm::dvec3 z = glm::normalize(target - center);
-  const glm::dvec3 x = glm::normalize(glm::cross(z, glm::dvec3(0, 0, 1)));
-  const glm::dvec3 y = glm::cross(z, x);
-  c.camFromWorld = glm::transpose(glm::dmat3(x, y, z));  // rows: the camera axes in world
-  c.focal = {focal, focal};
-  c.principal = {w / 2.0, h / 2.0};
-  return c;
+  return hv::lookAtCamera(id, center, target, w, h, focal);
 }
 
 hv::Image8 solid(int w, int h, int seed) {

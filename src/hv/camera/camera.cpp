@@ -114,6 +114,22 @@ Camera Camera::resized(int newWidth, int newHeight) const {
   return scaled(s, newWidth, newHeight);
 }
 
+Camera lookAtCamera(const std::string& id, const glm::dvec3& center, const glm::dvec3& target, int width,
+                    int height, double focal, const glm::dvec3& up) {
+  Camera c;
+  c.id = id;
+  c.width = width;
+  c.height = height;
+  c.center = center;
+  const glm::dvec3 z = glm::normalize(target - center);
+  const glm::dvec3 x = glm::normalize(glm::cross(z, up));
+  const glm::dvec3 y = glm::cross(z, x);  // image down
+  c.camFromWorld = glm::transpose(glm::dmat3(x, y, z));  // rows of R: the camera axes in the world
+  c.focal = {focal, focal};
+  c.principal = {width / 2.0, height / 2.0};
+  return c;
+}
+
 glm::dmat3 orthonormalize(const glm::dmat3& m) {
   Eigen::Matrix3d a;
   for (int r = 0; r < 3; ++r)

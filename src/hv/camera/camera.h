@@ -75,6 +75,12 @@ class Camera {
   Camera resized(int newWidth, int newHeight) const;
 };
 
+// A pinhole camera at `center` looking at `target` with `up` pointing up in the image (camera y,
+// down, is opposite to it), square pixels of `focal`, principal point at the image centre. For
+// synthetic scenes, tests, benchmarks and viewers. `target - center` must not be parallel to `up`.
+Camera lookAtCamera(const std::string& id, const glm::dvec3& center, const glm::dvec3& target, int width,
+                    int height, double focal, const glm::dvec3& up = glm::dvec3(0.0, 0.0, 1.0));
+
 // Checks a camera's fields (finite values, positive focal and size, orthonormal rotation) and
 // re-orthonormalises a rotation whose defect is below `orthoTolerance` (max |R R^T - I|).
 // Throws InputError naming the field otherwise.

@@ -39,6 +39,16 @@ void setNearestClamp(GLenum target) {
   glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
+// An RGBA8 texture of w x h with nearest filtering: the view's colour, building-id and tile-range
+// targets.
+gpu::Texture makeRgba8Target(int w, int h) {
+  gpu::Texture t = gpu::makeTexture();
+  glBindTexture(GL_TEXTURE_2D, t.id());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  setNearestClamp(GL_TEXTURE_2D);
+  return t;
+}
+
 void uploadMat4(GLint loc, const glm::dmat4& m) {
   float f[16];
   for (int c = 0; c < 4; ++c)
@@ -410,17 +420,11 @@ struct Renderer::Impl {
                    nullptr);
       setNearestClamp(GL_TEXTURE_2D);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-      viewBuilding = gpu::makeTexture();
-      glBindTexture(GL_TEXTURE_2D, viewBuilding.id());
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, depthSz.x, depthSz.y, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-      setNearestClamp(GL_TEXTURE_2D);
+      viewBuilding = makeRgba8Target(depthSz.x, depthSz.y);
       viewDepthSize = depthSz;
     }
     if (colorSz != viewColorSize) {
-      viewColor = gpu::makeTexture();
-      glBindTexture(GL_TEXTURE_2D, viewColor.id());
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, colorSz.x, colorSz.y, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-      setNearestClamp(GL_TEXTURE_2D);
+      viewColor = makeRgba8Target(colorSz.x, colorSz.y);
       viewColorSize = colorSz;
     }
     checkGlError("view targets");
@@ -604,10 +608,7 @@ struct Renderer::Impl {
     grid.rect = vf;
     const glm::ivec2 tiles(grid.tilesX(), grid.tilesY());
     if (tiles != tileRangeSize) {
-      tileRange = gpu::makeTexture();
-      glBindTexture(GL_TEXTURE_2D, tileRange.id());
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tiles.x, tiles.y, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-      setNearestClamp(GL_TEXTURE_2D);
+      tileRange = makeRgba8Target(tiles.x, tiles.y);
       tileRangeSize = tiles;
     }
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);

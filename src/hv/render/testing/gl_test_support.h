@@ -49,19 +49,7 @@ inline std::string makeTempDir(const std::string& name) {
 
 // A camera at `center` (world) looking towards `target`, z up, pinhole.
 inline Camera lookAt(const std::string& id, glm::dvec3 center, glm::dvec3 target, int w, int h, double focal) {
-  Camera c;
-  c.id = id;
-  c.width = w;
-  c.height = h;
-  c.center = center;
-  const glm::dvec3 z = glm::normalize(target - center);
-  const glm::dvec3 x = glm::normalize(glm::cross(z, glm::dvec3(0, 0, 1)));
-  const glm::dvec3 y = glm::cross(z, x);  // down
-  // Rows of R are the camera axes in world coordinates.
-  c.camFromWorld = glm::transpose(glm::dmat3(x, y, z));
-  c.focal = {focal, focal};
-  c.principal = {w / 2.0, h / 2.0};
-  return c;
+  return lookAtCamera(id, center, target, w, h, focal);
 }
 
 // A smooth pattern distinct per seed (texels vary across the image, so misplaced lookups show).
