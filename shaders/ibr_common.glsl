@@ -8,8 +8,12 @@ struct HvImage {
   mat3 M;         // K R, applied to (P - C)
   vec3 C;         // camera centre, render frame
   vec2 dc;        // distortion centre
+  vec2 dscale;    // pixels per normalised unit
   float c3, c5, c7;
-  float r2max;    // < 0: no distortion
+  float p1, p2;   // tangential
+  float l1, l2;   // fish-eye affine terms
+  bool fisheye;
+  float r2max;    // normalised; < 0: no distortion
   vec2 size;      // image width, height (pixels)
   vec2 uvScale;   // texture uv = p_distorted * uvScale
   float slice;
@@ -29,6 +33,8 @@ HvImage hv_fetchImage(int i) {
   vec4 t6 = texelFetch(u_params, ivec2(6, i), 0);
   vec4 t7 = texelFetch(u_params, ivec2(7, i), 0);
   vec4 t8 = texelFetch(u_params, ivec2(8, i), 0);
+  vec4 t9 = texelFetch(u_params, ivec2(9, i), 0);
+  vec4 t10 = texelFetch(u_params, ivec2(10, i), 0);
   HvImage im;
   // Rows in the texture, GLSL matrices are column-major: transpose.
   im.M = transpose(mat3(t0.xyz, t1.xyz, t2.xyz));
@@ -49,18 +55,35 @@ HvImage hv_fetchImage(int i) {
   im.biasAbs = t7.z;
   im.biasRel = t7.w;
   im.date = t8.xy;
+  im.dscale = t9.xy;
+  im.p1 = t9.z;
+  im.p2 = t9.w;
+  im.l1 = t10.x;
+  im.l2 = t10.y;
+  im.fisheye = t10.z > 0.5;
   return im;
 }
 
-// Radial distortion (Brédif 2013, fig. 2): p_d = p + r (c3|r|^2 + c5|r|^4 + c7|r|^6), r = p - centre.
-// Twin of hv::RadialDistortion::distort. Returns false outside the domain |r|^2 <= r2max.
+// Lens distortion, twin of hv::LensDistortion::distort (its comment in camera.h has the models):
+// normalised x = (p - centre) / scale, the fish-eye angle step, radial, tangential and affine terms,
+// p_d = p + scale * (x_d - x). Returns false outside the domain |x|^2 <= r2max.
 bool hv_distort(HvImage im, vec2 p, out vec2 pd) {
   pd = p;
   if (im.r2max < 0.0) return true;
-  vec2 r = p - im.dc;
-  float r2 = dot(r, r);
-  if (r2 > im.r2max) return false;
-  pd = p + r * (r2 * (im.c3 + r2 * (im.c5 + r2 * im.c7)));
+  vec2 x = (p - im.dc) / im.dscale;
+  float R2 = dot(x, x);
+  if (R2 > im.r2max) return false;
+  vec2 a = x;
+  if (im.fisheye && R2 > 0.0) {
+    float R = sqrt(R2);
+    a = x * (atan(R) / R);
+  }
+  float r2 = dot(a, a);
+  vec2 d = a * (r2 * (im.c3 + r2 * (im.c5 + r2 * im.c7))) + (a - x);
+  d += vec2(2.0 * im.p1 * a.x * a.y + im.p2 * (r2 + 2.0 * a.x * a.x),
+            im.p1 * (r2 + 2.0 * a.y * a.y) + 2.0 * im.p2 * a.x * a.y);
+  d += vec2(im.l1 * a.x - im.l2 * a.y, -im.l2 * a.x);
+  pd = p + im.dscale * d;
   return true;
 }
 

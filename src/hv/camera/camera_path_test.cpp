@@ -125,7 +125,7 @@ TEST(CameraPath, IntrinsicsAreLinearAndDistortionComesFromTheEarlierKey) {
   a.camera.focal = {40, 42};
   b.camera.focal = {60, 58};
   b.camera.principal = {30, 26};
-  RadialDistortion d;
+  LensDistortion d;
   d.c3 = 1e-6;
   b.camera.distortion = d;
   const CameraPath path({a, b});

@@ -60,8 +60,8 @@ TEST(Camera, RayThroughPixelRoundTrips) {
   }
 }
 
-TEST(RadialDistortion, ForwardMatchesPolynomial) {
-  RadialDistortion d;
+TEST(LensDistortion, ForwardMatchesPolynomial) {
+  LensDistortion d;
   d.center = {100.0, 50.0};
   d.c3 = 1e-6;
   d.c5 = -2e-12;
@@ -75,8 +75,8 @@ TEST(RadialDistortion, ForwardMatchesPolynomial) {
   EXPECT_EQ(d.distort(d.center), d.center);
 }
 
-TEST(RadialDistortion, DomainAndInverse) {
-  RadialDistortion d;
+TEST(LensDistortion, DomainAndInverse) {
+  LensDistortion d;
   d.center = {320.0, 240.0};
   d.c3 = -2e-7;  // barrel; monotonic while 1 + 3 c3 r^2 > 0, i.e. r < ~1290
   d.r2max = 600.0 * 600.0;
@@ -95,7 +95,7 @@ TEST(RadialDistortion, DomainAndInverse) {
 
 TEST(Camera, DistortedProjectionUsesDistortedPixel) {
   Camera c = lookingNorth();
-  RadialDistortion d;
+  LensDistortion d;
   d.center = {320.5, 240.5};
   d.c3 = 1e-6;
   c.distortion = d;
@@ -107,7 +107,7 @@ TEST(Camera, DistortedProjectionUsesDistortedPixel) {
 
 TEST(Camera, ScaledKeepsNormalisedProjection) {
   Camera c = lookingNorth();
-  RadialDistortion d;
+  LensDistortion d;
   d.center = {300.0, 200.0};
   d.c3 = 1e-6;
   d.c5 = 1e-12;

@@ -59,7 +59,7 @@ Camera cameraFromJson(const json& j) {
   c.skew = j.at("skew").get<double>();
   if (j.contains("distortion")) {
     const json& d = j["distortion"];
-    RadialDistortion rd;
+    LensDistortion rd;
     rd.center = {d["center"][0].get<double>(), d["center"][1].get<double>()};
     rd.c3 = d.at("c3").get<double>();
     rd.c5 = d.at("c5").get<double>();
@@ -401,7 +401,7 @@ TEST_F(DemoCity, DistortedPhotosAreRenderedThroughUndistort) {
     ++distortedPhotos;
     const Shot& shot = plan_->photos[k];
     const Camera cam = cameraFromJson(cams[k]);
-    const RadialDistortion& d = *cam.distortion;
+    const LensDistortion& d = *cam.distortion;
     // The distortion is visible: several pixels at the far corner, and invertible everywhere.
     double cornerShift = 0.0;
     for (glm::dvec2 corner : {glm::dvec2(0, 0), glm::dvec2(cam.width, 0), glm::dvec2(0, cam.height),

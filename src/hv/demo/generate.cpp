@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "hv/demo/demo_city.h"
+#include "hv/io/cameras_json.h"
 #include "hv/io/raster.h"
 
 namespace hv::demo {
@@ -19,35 +20,16 @@ namespace {
 
 // nlohmann::json prints doubles in their shortest round-trip form (up to 17 significant digits),
 // so cameras and footprints are written without loss.
-void writeJson(const fs::path& path, const json& j) {
+void writeText(const fs::path& path, const std::string& text) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write " + path.string());
-  f << j.dump(1) << '\n';
+  f << text << '\n';
   if (!f) throw std::runtime_error("cannot write " + path.string());
 }
 
-json vec(glm::dvec2 v) { return json::array({v.x, v.y}); }
-json vec(glm::dvec3 v) { return json::array({v.x, v.y, v.z}); }
+void writeJson(const fs::path& path, const json& j) { writeText(path, j.dump(1)); }
 
-json cameraJson(const Camera& c) {
-  double r[9];
-  mat3ToRowMajor(c.camFromWorld, r);
-  json j;
-  j["id"] = c.id;
-  j["width"] = c.width;
-  j["height"] = c.height;
-  j["center"] = vec(c.center);
-  j["rotation"] = json(std::vector<double>(r, r + 9));
-  j["focal"] = vec(c.focal);
-  j["principal"] = vec(c.principal);
-  j["skew"] = c.skew;
-  if (c.distortion) {
-    const RadialDistortion& d = *c.distortion;
-    j["distortion"] = {{"type", "radial"}, {"center", vec(d.center)}, {"c3", d.c3}, {"c5", d.c5},
-                       {"c7", d.c7},       {"r2max", d.r2max}};
-  }
-  return j;
-}
+json vec(glm::dvec2 v) { return json::array({v.x, v.y}); }
 
 json buildingsGeoJson(const World& w) {
   json features = json::array();
@@ -101,35 +83,33 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   say("demo city: cameras placed (" + std::to_string(plan.photos.size()) + " photographs, " +
       std::to_string(plan.views.size()) + " views)");
 
-  json cams = json::array();
+  std::vector<Photo> photos;
   for (size_t k = 0; k < plan.photos.size(); ++k) {
     const Shot& shot = plan.photos[k];
     const Rendered r = renderShot(world, caster, shot, options.samplesPerAxis);
-    const std::string image = "images/" + shot.camera.id + ".png";
-    writePng((dir / image).string(), r.color);
-    json j = cameraJson(shot.camera);
-    j["image"] = image;
+    Photo& photo = photos.emplace_back();
+    photo.camera = shot.camera;
+    photo.imagePath = (dir / "images" / (shot.camera.id + ".png")).string();
+    writePng(photo.imagePath, r.color);
     if (shot.masked) {
-      const std::string mask = "masks/" + shot.camera.id + ".png";
-      writePng((dir / mask).string(), r.mask);
-      j["mask"] = mask;
+      photo.maskPath = (dir / "masks" / (shot.camera.id + ".png")).string();
+      writePng(photo.maskPath, r.mask);
     }
-    j["date"] = shot.date;
-    cams.push_back(j);
+    photo.date = shot.date;
     say("demo city: photograph " + std::to_string(k + 1) + "/" + std::to_string(plan.photos.size()));
   }
-  writeJson(dir / "cameras.json", {{"cameras", cams}});
+  writeText(dir / "cameras.json", cameraJson(photos, dir.string()));
 
-  json views = json::array();
+  std::vector<Photo> views;
   for (size_t k = 0; k < plan.views.size(); ++k) {
     const Shot& shot = plan.views[k];
     const Rendered r = renderShot(world, caster, shot, options.samplesPerAxis);
     writePng((dir / "truth" / (shot.camera.id + ".png")).string(), r.color);
     writePng((dir / "truth" / (shot.camera.id + ".coverage.png")).string(), r.coverage);
-    views.push_back(cameraJson(shot.camera));
+    views.emplace_back().camera = shot.camera;
     say("demo city: view " + std::to_string(k + 1) + "/" + std::to_string(plan.views.size()));
   }
-  writeJson(dir / "views.json", {{"cameras", views}});
+  writeText(dir / "views.json", cameraJson(views, dir.string()));
 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ostringstream m;

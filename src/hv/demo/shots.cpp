@@ -148,7 +148,7 @@ class Planner {
   // monotonic (derivative >= 1 - 3.5 corner / R > 0 at the corner for corner/R <= 0.06, and about
   // 0.2 at 1.5 R for barrel distortion), so undistort() inverts every pixel of the image.
   void addDistortion(Camera& c) {
-    RadialDistortion d;
+    LensDistortion d;
     d.center = c.principal + glm::dvec2(rng_.uniform(-3.0, 3.0), rng_.uniform(-3.0, 3.0));
     double radius = 0.0;
     for (glm::dvec2 corner :

@@ -87,10 +87,23 @@ VertexArray makeVertexArray() {
   return VertexArray(id);
 }
 
+namespace {
+const std::string* embedded(const std::string& file) {
+  const std::string* src = findShaderSource(file);
+  if (!src) throw std::runtime_error("shader not embedded: " + file);
+  return src;
+}
+}  // namespace
+
 std::string preprocessShader(const std::string& file, const std::vector<std::string>& defines) {
   const std::string* src = findShaderSource(file);
   if (!src) throw std::runtime_error("shader not embedded: " + file);
-  std::istringstream in(*src);
+  return preprocessShader(ShaderText{file, *src}, defines);
+}
+
+std::string preprocessShader(const ShaderText& shader, const std::vector<std::string>& defines) {
+  const std::string& file = shader.name;
+  std::istringstream in(shader.source);
   std::ostringstream out;
   std::string line;
   bool versionSeen = false;
@@ -136,11 +149,17 @@ GLuint compile(GLenum type, const std::string& file, const std::string& source) 
 }  // namespace
 
 Program::Program(const std::string& vertexFile, const std::string& fragmentFile,
-                 const std::vector<std::string>& defines) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertexFile, preprocessShader(vertexFile, defines));
+                 const std::vector<std::string>& defines)
+    : Program(ShaderText{vertexFile, *embedded(vertexFile)}, ShaderText{fragmentFile, *embedded(fragmentFile)},
+              defines) {}
+
+Program::Program(const ShaderText& vertex, const ShaderText& fragment, const std::vector<std::string>& defines) {
+  const std::string& vertexFile = vertex.name;
+  const std::string& fragmentFile = fragment.name;
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertexFile, preprocessShader(vertex, defines));
   GLuint fs = 0;
   try {
-    fs = compile(GL_FRAGMENT_SHADER, fragmentFile, preprocessShader(fragmentFile, defines));
+    fs = compile(GL_FRAGMENT_SHADER, fragmentFile, preprocessShader(fragment, defines));
   } catch (...) {
     glDeleteShader(vs);
     throw;

@@ -77,11 +77,19 @@ VertexArray makeVertexArray();
 // A linked program from two embedded shader files. `#include "x.glsl"` lines are replaced by the
 // embedded file; `defines` ("NAME" or "NAME=VALUE") are inserted after the #version line. Throws
 // with the info log.
+// A shader given as text rather than by embedded file name (generated sources, tests); its
+// `#include "x.glsl"` lines still resolve to embedded files.
+struct ShaderText {
+  std::string name;  // for messages
+  std::string source;
+};
+
 class Program {
  public:
   Program() = default;
   Program(const std::string& vertexFile, const std::string& fragmentFile,
           const std::vector<std::string>& defines = {});
+  Program(const ShaderText& vertex, const ShaderText& fragment, const std::vector<std::string>& defines = {});
   GLuint id() const { return name_.id(); }
   void use() const { glUseProgram(name_.id()); }
   GLint uniform(const char* name) const;  // -1 when absent (optimised out)
@@ -93,6 +101,7 @@ class Program {
 
 // The full source after include and define processing (for tests and error messages).
 std::string preprocessShader(const std::string& file, const std::vector<std::string>& defines);
+std::string preprocessShader(const ShaderText& shader, const std::vector<std::string>& defines);
 
 // Checks that the bound framebuffer is complete; throws naming `what` otherwise.
 void checkFramebuffer(const char* what);

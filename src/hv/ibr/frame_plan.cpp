@@ -36,9 +36,10 @@ PinholeFrustum idealRectCoveringImage(const Camera& cam, double marginPx) {
       f.pxMax = glm::max(hi, f.pxMax);
     }
     // Part of the image border has no undistorted preimage: the image then extends to the edge of
-    // the distortion domain, a disc of radius sqrt(r2max) whose box bounds the ideal points.
+    // the distortion domain, an ellipse of normalised radius sqrt(r2max) whose box bounds the
+    // ideal points.
     if (outsideDomain && cam.distortion->r2max < 1e29) {
-      const double r = std::sqrt(cam.distortion->r2max);
+      const glm::dvec2 r = std::sqrt(cam.distortion->r2max) * cam.distortion->scale;
       f.pxMin = glm::min(f.pxMin, cam.distortion->center - r);
       f.pxMax = glm::max(f.pxMax, cam.distortion->center + r);
     }
@@ -208,7 +209,7 @@ void packImageParams(const ImageParams& p, float* o) {
   }
   const Camera& cam = p.camera;
   const bool distorted = cam.distortion && !cam.distortion->isIdentity();
-  const RadialDistortion d = distorted ? *cam.distortion : RadialDistortion{};
+  const LensDistortion d = distorted ? *cam.distortion : LensDistortion{};
   o[12] = float(d.center.x);
   o[13] = float(d.center.y);
   o[14] = float(d.c3);
@@ -234,6 +235,14 @@ void packImageParams(const ImageParams& p, float* o) {
   o[33] = days.y;
   o[34] = 0.0f;
   o[35] = 0.0f;
+  o[36] = float(d.scale.x);
+  o[37] = float(d.scale.y);
+  o[38] = float(d.p1);
+  o[39] = float(d.p2);
+  o[40] = float(d.l1);
+  o[41] = float(d.l2);
+  o[42] = d.model == LensDistortion::Model::Fisheye ? 1.0f : 0.0f;
+  o[43] = 0.0f;
 }
 
 }  // namespace hv::ibr

@@ -90,17 +90,19 @@ struct SliceLayout {
   glm::dvec2 uvScale{1.0};  // texture uv = pxDistorted * uvScale (folds the resize into the slice)
 };
 
-// Per-image shader parameters. Layout of one image in the RGBA32F data texture (8 texels, one
-// row per image); the GLSL reader is `hv_fetchImage` in shaders/ibr_common.glsl:
+// Per-image shader parameters. Layout of one image in the RGBA32F data texture (kTexelsPerImage
+// texels, one row per image); the GLSL reader is `hv_fetchImage` in shaders/ibr_common.glsl:
 //   t0..t2 : rows of M = K R (xyz), C_render.x / .y / .z (w)
-//   t3     : distortion centre (xy), c3, c5
+//   t3     : distortion centre (xy), c3, c5 (hv::LensDistortion)
 //   t4     : c7, r2max (< 0: no distortion), width, height
 //   t5     : uvScale (xy), slice, weight
 //   t6     : depth rect: pxMin (xy), 1/(pxMax - pxMin) (zw)
 //   t7     : near, far, bias (absolute, scene units), bias (relative to depth)
 //   t8     : the photograph's date interval (days since 1970-01-01, hv/util/dates.h; +-kOpenDay when
 //            undated), 0, 0
-inline constexpr int kTexelsPerImage = 9;
+//   t9     : distortion scale (xy), tangential p1, p2
+//   t10    : fish-eye affine l1, l2, model (0 polynomial, 1 fish-eye), 0
+inline constexpr int kTexelsPerImage = 11;
 // Stands for an open end of a date interval on the GPU (days; floats hold whole days exactly up
 // to 2^24, so day numbers of the last and next few millennia are exact).
 inline constexpr double kOpenDay = 1e7;

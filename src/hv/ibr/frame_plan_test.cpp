@@ -55,7 +55,7 @@ TEST(IdealRect, CoversTheDistortedImage) {
   Camera cam = testCamera({0, 0, 0});
   EXPECT_EQ(idealRectCoveringImage(cam).pxMin, glm::dvec2(0.0));
   EXPECT_EQ(idealRectCoveringImage(cam).pxMax, glm::dvec2(400.0, 300.0));
-  RadialDistortion d;
+  LensDistortion d;
   d.center = {200.0, 150.0};
   d.c3 = -1.5e-6;  // barrel: the image corners come from ideal points farther out
   d.r2max = 400.0 * 400.0;
@@ -85,7 +85,7 @@ TEST(DepthRange, BracketsTheSceneBounds) {
 
 TEST(PackImageParams, LayoutMatchesTheShaderReader) {
   Camera cam = testCamera({1, 2, 3});
-  RadialDistortion d;
+  LensDistortion d;
   d.center = {201.0, 151.0};
   d.c3 = 1e-7;
   d.c5 = 2e-13;
@@ -124,6 +124,19 @@ TEST(PackImageParams, LayoutMatchesTheShaderReader) {
   EXPECT_FLOAT_EQ(o[31], 0.01f);
   EXPECT_FLOAT_EQ(o[32], -1e7f);  // undated: open interval
   EXPECT_FLOAT_EQ(o[33], 1e7f);
+  EXPECT_FLOAT_EQ(o[36], 1.0f);  // a pixel polynomial: scale 1, no tangential or affine terms
+  EXPECT_FLOAT_EQ(o[38], 0.0f);
+  EXPECT_FLOAT_EQ(o[42], 0.0f);  // polynomial model
+  cam.distortion->model = LensDistortion::Model::Fisheye;
+  cam.distortion->scale = {700.0, 710.0};
+  cam.distortion->p2 = 0.25;
+  cam.distortion->l1 = 0.5;
+  packImageParams(makeImageParams(cam, {0, 0, 0}, {}, 1.0, fr, {}), o);
+  EXPECT_FLOAT_EQ(o[36], 700.0f);
+  EXPECT_FLOAT_EQ(o[37], 710.0f);
+  EXPECT_FLOAT_EQ(o[39], 0.25f);
+  EXPECT_FLOAT_EQ(o[40], 0.5f);
+  EXPECT_FLOAT_EQ(o[42], 1.0f);  // fish-eye
   cam.distortion.reset();
   packImageParams(makeImageParams(cam, {0, 0, 0}, {}, 1.0, fr, {}), o);
   EXPECT_LT(o[17], 0.0f);  // no distortion

@@ -40,7 +40,7 @@ TEST(TileCulling, ListsEveryImageThatCoversAPointOfTheTile) {
     Camera c = looking(origin + glm::dvec3(40 * u(rng) - 20, 40 * u(rng) - 10, 1 + 10 * u(rng)), 360 * u(rng), 64,
                        48, 30 + 60 * u(rng));
     if (i % 3 == 0) {
-      RadialDistortion d;
+      LensDistortion d;
       d.center = {32.0, 24.0};
       d.c3 = -2e-4;
       d.r2max = 40.0 * 40.0;

@@ -61,6 +61,75 @@ std::string resolve(const std::string& baseDir, const std::string& p) {
   return (fs::path(baseDir) / p).lexically_normal().string();
 }
 
+// "distortion": {"type": "radial" | "opencv" | "fisheye", ...}; docs/formats.md has the fields and
+// hv::LensDistortion (camera.h) the models. Needs the camera's focal and principal point (opencv).
+LensDistortion parseDistortion(const json& d, const Camera& c) {
+  if (!d.is_object()) throw InputError("distortion: expected an object");
+  if (d.contains("type") && !d["type"].is_string())
+    throw InputError("distortion.type: expected \"radial\", \"opencv\" or \"fisheye\"");
+  const std::string type = d.value("type", "radial");
+  auto optional = [&](const char* field, double fallback) {
+    return d.contains(field) ? number(d, field) : fallback;
+  };
+  LensDistortion lens;
+  try {
+    if (type == "radial") {
+      auto dc = numbers(d, "center", 2);
+      lens.center = {dc[0], dc[1]};
+      lens.c3 = optional("c3", 0.0);
+      lens.c5 = optional("c5", 0.0);
+      lens.c7 = optional("c7", 0.0);
+    } else if (type == "opencv") {
+      lens.center = c.principal;
+      lens.scale = c.focal;
+      lens.c3 = optional("k1", 0.0);
+      lens.c5 = optional("k2", 0.0);
+      lens.c7 = optional("k3", 0.0);
+      lens.p1 = optional("p1", 0.0);
+      lens.p2 = optional("p2", 0.0);
+    } else if (type == "fisheye") {
+      lens.model = LensDistortion::Model::Fisheye;
+      auto dc = numbers(d, "center", 2);
+      lens.center = {dc[0], dc[1]};
+      const double f = number(d, "focal");
+      if (!(f > 0.0)) throw InputError("focal: expected a positive number of pixels");
+      lens.scale = {f, f};
+      lens.c3 = optional("c3", 0.0);
+      lens.c5 = optional("c5", 0.0);
+      lens.c7 = optional("c7", 0.0);
+      lens.l1 = optional("l1", 0.0);
+      lens.l2 = optional("l2", 0.0);
+    } else {
+      throw InputError("type: expected \"radial\", \"opencv\" or \"fisheye\", got \"" + type + "\"");
+    }
+    lens.r2max = optional("r2max", 1e30);
+    if (!(lens.r2max > 0)) throw InputError("r2max: expected a positive number");
+  } catch (const InputError& e) {
+    throw InputError(std::string("distortion.") + e.what());
+  }
+  return lens;
+}
+
+json distortionJson(const LensDistortion& d, const Camera& c) {
+  using Model = LensDistortion::Model;
+  if (d.model == Model::Fisheye) {
+    return {{"type", "fisheye"}, {"center", {d.center.x, d.center.y}}, {"focal", d.scale.x}, {"c3", d.c3},
+            {"c5", d.c5}, {"c7", d.c7}, {"l1", d.l1}, {"l2", d.l2}, {"r2max", d.r2max}};
+  }
+  if (d.p1 == 0.0 && d.p2 == 0.0 && d.scale.x == d.scale.y) {
+    // A pixel polynomial: normalised by `scale`, so c_k in pixels is c_k / scale^(k-1).
+    const double s2 = d.scale.x * d.scale.x;
+    return {{"type", "radial"}, {"center", {d.center.x, d.center.y}}, {"c3", d.c3 / s2},
+            {"c5", d.c5 / (s2 * s2)}, {"c7", d.c7 / (s2 * s2 * s2)}, {"r2max", std::min(d.r2max * s2, 1e30)}};
+  }
+  if (d.center != c.principal || d.scale != c.focal)
+    throw std::invalid_argument("camera '" + c.id +
+                                "': tangential distortion about another centre than the principal point has no "
+                                "cameras.json form");
+  return {{"type", "opencv"}, {"k1", d.c3}, {"k2", d.c5}, {"k3", d.c7}, {"p1", d.p1}, {"p2", d.p2},
+          {"r2max", d.r2max}};
+}
+
 Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOptions& opt) {
   Photo photo;
   Camera& c = photo.camera;
@@ -80,21 +149,7 @@ Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOption
     auto pp = numbers(j, "principal", 2);
     c.principal = {pp[0], pp[1]};
     c.skew = j.contains("skew") ? number(j, "skew") : 0.0;
-    if (j.contains("distortion") && !j["distortion"].is_null()) {
-      const json& d = j["distortion"];
-      if (!d.is_object()) throw InputError("distortion: expected an object");
-      const std::string type = d.value("type", "radial");
-      if (type != "radial") throw InputError("distortion.type: expected \"radial\", got \"" + type + "\"");
-      RadialDistortion rd;
-      auto dc = numbers(d, "center", 2);
-      rd.center = {dc[0], dc[1]};
-      rd.c3 = d.contains("c3") ? number(d, "c3") : 0.0;
-      rd.c5 = d.contains("c5") ? number(d, "c5") : 0.0;
-      rd.c7 = d.contains("c7") ? number(d, "c7") : 0.0;
-      rd.r2max = d.contains("r2max") ? number(d, "r2max") : 1e30;
-      if (rd.r2max <= 0) throw InputError("distortion.r2max: expected a positive number");
-      c.distortion = rd;
-    }
+    if (j.contains("distortion") && !j["distortion"].is_null()) c.distortion = parseDistortion(j["distortion"], c);
     validateCamera(c);
     if (j.contains("image") && j["image"].is_string()) photo.imagePath = resolve(baseDir, j["image"].get<std::string>());
     else if (j.contains("image") && !j["image"].is_null()) throw InputError("image: expected a path string");
@@ -133,6 +188,7 @@ std::vector<Photo> parseCameraJson(const std::string& text, const std::string& p
   for (const auto& j : doc["cameras"]) {
     try {
       out.push_back(parseOne(j, baseDir, opt));
+      fitLensDomain(out.back().camera, path, diag);
     } catch (const InputError& e) {
       std::string msg = e.what();
       if (msg.rfind("camera '", 0) != 0) msg = "camera #" + std::to_string(index) + ": " + msg;
@@ -172,11 +228,7 @@ std::string cameraJson(const std::vector<Photo>& photos, const std::string& base
       j["image"] = baseDir.empty() ? p.imagePath : fs::relative(p.imagePath, baseDir).string();
     if (!p.maskPath.empty())
       j["mask"] = baseDir.empty() ? p.maskPath : fs::relative(p.maskPath, baseDir).string();
-    if (c.distortion) {
-      const auto& d = *c.distortion;
-      j["distortion"] = {{"type", "radial"}, {"center", {d.center.x, d.center.y}}, {"c3", d.c3},
-                         {"c5", d.c5},       {"c7", d.c7},                         {"r2max", d.r2max}};
-    }
+    if (c.distortion) j["distortion"] = distortionJson(*c.distortion, c);
     if (!p.date.empty()) j["date"] = p.date;
     arr.push_back(j);
   }

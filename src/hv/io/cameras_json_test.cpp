@@ -90,5 +90,35 @@ TEST(CameraJson, WritesWhatItReads) {
   EXPECT_EQ(again[0].imagePath, photos[0].imagePath);
 }
 
+TEST(CameraJson, EveryLensModelSurvivesARoundTrip) {
+  const std::string base = R"("width": 640, "height": 480, "center": [1, 2, 3], "rotation": [1, 0, 0, 0, 1, 0, 0, 0, 1],
+    "focal": [500, 490], "principal": [320, 240], "image": "a.png", )";
+  Diagnostics diag;
+  const auto photos = parse(
+      "{\"id\": \"cv\", " + base +
+          R"("distortion": {"type": "opencv", "k1": -0.1, "k2": 0.02, "p1": 0.001, "p2": -0.002, "k3": 0.003}}, )" +
+          "{\"id\": \"fe\", " + base +
+          R"("distortion": {"type": "fisheye", "center": [322, 239], "focal": 300, "c3": -0.01, "l1": 1e-4, "l2": -2e-4}}, )" +
+          "{\"id\": \"bad\", " + base + R"("distortion": {"type": "fisheye", "center": [322, 239]}})",
+      diag);
+  ASSERT_EQ(photos.size(), 2u);
+  ASSERT_EQ(diag.errors.size(), 1u);  // the fish-eye without its focal
+  EXPECT_NE(diag.errors[0].find("distortion.focal"), std::string::npos) << diag.errors[0];
+  const LensDistortion& cv = *photos[0].camera.distortion;
+  EXPECT_EQ(cv.scale, glm::dvec2(500, 490));  // OpenCV normalises by the camera's focal
+  EXPECT_EQ(cv.center, glm::dvec2(320, 240));
+  EXPECT_EQ(cv.p2, -0.002);
+  EXPECT_EQ(photos[1].camera.distortion->model, LensDistortion::Model::Fisheye);
+  const std::string text = cameraJson(photos, "/data");
+  const auto again = parse(text.substr(text.find('[') + 1, text.rfind(']') - text.find('[') - 1), diag);
+  ASSERT_EQ(again.size(), 2u);
+  for (size_t i = 0; i < 2; ++i)
+    for (glm::dvec2 p : {glm::dvec2(10, 20), glm::dvec2(600, 400)}) {
+      const glm::dvec2 a = photos[i].camera.distort(p), b = again[i].camera.distort(p);
+      EXPECT_NEAR(a.x, b.x, 1e-9);
+      EXPECT_NEAR(a.y, b.y, 1e-9);
+    }
+}
+
 }  // namespace
 }  // namespace hv

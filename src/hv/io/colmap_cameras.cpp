@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 struct ColmapCamera {
   int width = 0, height = 0;
   glm::dvec2 focal{1.0}, principal{0.0};
-  std::optional<RadialDistortion> distortion;
+  std::optional<LensDistortion> distortion;
 };
 
 std::vector<double> readNumbers(std::istringstream& in, size_t n, const std::string& what) {
@@ -31,14 +31,21 @@ ColmapCamera parseCamera(const std::string& model, std::istringstream& in) {
   ColmapCamera c;
   if (!(in >> c.width >> c.height) || c.width <= 0 || c.height <= 0)
     throw InputError("WIDTH HEIGHT: expected two positive integers");
-  auto radial = [&](double f, double k1, double k2) {
-    RadialDistortion d;
+  // COLMAP distorts normalised coordinates u = (p - c) / f: exactly hv::LensDistortion with
+  // centre c and scale f (its radial k1 k2 k3 are c3 c5 c7).
+  auto lens = [&](LensDistortion::Model model, double k1, double k2, double k3, double p1, double p2) {
+    LensDistortion d;
+    d.model = model;
     d.center = c.principal;
-    d.c3 = k1 / (f * f);
-    d.c5 = k2 / (f * f * f * f);
-    d.r2max = monotonicRadius2(d.c3, d.c5, 1e30);
+    d.scale = c.focal;
+    d.c3 = k1;
+    d.c5 = k2;
+    d.c7 = k3;
+    d.p1 = p1;
+    d.p2 = p2;
     if (!d.isIdentity()) c.distortion = d;
   };
+  using Model = LensDistortion::Model;
   if (model == "SIMPLE_PINHOLE") {
     const auto p = readNumbers(in, 3, "PARAMS (f, cx, cy)");
     c.focal = {p[0], p[0]};
@@ -47,19 +54,32 @@ ColmapCamera parseCamera(const std::string& model, std::istringstream& in) {
     const auto p = readNumbers(in, 4, "PARAMS (fx, fy, cx, cy)");
     c.focal = {p[0], p[1]};
     c.principal = {p[2], p[3]};
-  } else if (model == "SIMPLE_RADIAL") {
+  } else if (model == "SIMPLE_RADIAL" || model == "SIMPLE_RADIAL_FISHEYE") {
     const auto p = readNumbers(in, 4, "PARAMS (f, cx, cy, k)");
     c.focal = {p[0], p[0]};
     c.principal = {p[1], p[2]};
-    radial(p[0], p[3], 0.0);
-  } else if (model == "RADIAL") {
+    lens(model == "SIMPLE_RADIAL" ? Model::Polynomial : Model::Fisheye, p[3], 0.0, 0.0, 0.0, 0.0);
+  } else if (model == "RADIAL" || model == "RADIAL_FISHEYE") {
     const auto p = readNumbers(in, 5, "PARAMS (f, cx, cy, k1, k2)");
     c.focal = {p[0], p[0]};
     c.principal = {p[1], p[2]};
-    radial(p[0], p[3], p[4]);
+    lens(model == "RADIAL" ? Model::Polynomial : Model::Fisheye, p[3], p[4], 0.0, 0.0, 0.0);
+  } else if (model == "OPENCV") {
+    const auto p = readNumbers(in, 8, "PARAMS (fx, fy, cx, cy, k1, k2, p1, p2)");
+    c.focal = {p[0], p[1]};
+    c.principal = {p[2], p[3]};
+    lens(Model::Polynomial, p[4], p[5], 0.0, p[6], p[7]);
+  } else if (model == "OPENCV_FISHEYE") {
+    const auto p = readNumbers(in, 8, "PARAMS (fx, fy, cx, cy, k1, k2, k3, k4)");
+    if (p[7] != 0.0) throw InputError("PARAMS: OPENCV_FISHEYE k4 (theta^9) is not supported (expected 0)");
+    c.focal = {p[0], p[1]};
+    c.principal = {p[2], p[3]};
+    lens(Model::Fisheye, p[4], p[5], p[6], 0.0, 0.0);
+    if (!c.distortion) lens(Model::Fisheye, 0.0, 0.0, 0.0, 0.0, 0.0);  // still a fish-eye
   } else {
     throw InputError("MODEL: " + model +
-                     " is not supported by this version (expected SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL or RADIAL)");
+                     " is not supported by this version (expected SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, "
+                     "OPENCV, SIMPLE_RADIAL_FISHEYE, RADIAL_FISHEYE or OPENCV_FISHEYE)");
   }
   return c;
 }
@@ -83,23 +103,6 @@ std::vector<std::pair<int, std::string>> dataLines(const std::string& path, bool
 
 }  // namespace
 
-double monotonicRadius2(double c3, double c5, double fallback) {
-  // d/dr [r (1 + c3 r^2 + c5 r^4)] = 1 + 3 c3 s + 5 c5 s^2 with s = r^2: the smallest positive root.
-  const double a = 5.0 * c5, b = 3.0 * c3, c = 1.0;
-  double root = fallback;
-  if (a == 0.0) {
-    if (b < 0.0) root = -c / b;
-  } else {
-    const double disc = b * b - 4.0 * a * c;
-    if (disc >= 0.0) {
-      const double s1 = (-b - std::sqrt(disc)) / (2.0 * a), s2 = (-b + std::sqrt(disc)) / (2.0 * a);
-      for (double s : {s1, s2})
-        if (s > 0.0) root = std::min(root, s);
-    }
-  }
-  return root;
-}
-
 std::vector<Photo> readColmapModel(const std::string& modelDir, const std::string& imageDir, Diagnostics& diag,
                                    bool checkImageFiles) {
   const std::string camerasPath = (fs::path(modelDir) / "cameras.txt").string();
@@ -112,15 +115,6 @@ std::vector<Photo> readColmapModel(const std::string& modelDir, const std::strin
     try {
       if (!(in >> id >> model)) throw InputError("expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]");
       ColmapCamera cam = parseCamera(model, in);
-      if (cam.distortion && cam.distortion->r2max < 1e29) {
-        double corner2 = 0.0;
-        for (const glm::dvec2 corner : {glm::dvec2(0.0), glm::dvec2(cam.width, 0.0), glm::dvec2(0.0, cam.height),
-                                        glm::dvec2(cam.width, cam.height)})
-          corner2 = std::max(corner2, glm::dot(corner - cam.principal, corner - cam.principal));
-        if (cam.distortion->r2max < corner2)
-          diag.warn(camerasPath + ":" + std::to_string(lineNo) + ": camera " + std::to_string(id) +
-                    ": the radial polynomial turns back before the image corners; its domain is cut there");
-      }
       cameras[id] = cam;
     } catch (const InputError& e) {
       diag.error(camerasPath + ":" + std::to_string(lineNo) + ": camera " + std::to_string(id) + ": " + e.what() +
@@ -160,6 +154,7 @@ std::vector<Photo> readColmapModel(const std::string& modelDir, const std::strin
       c.principal = it->second.principal;
       c.distortion = it->second.distortion;
       validateCamera(c);
+      fitLensDomain(c, camerasPath, diag);
       p.imagePath = (fs::path(imageDir) / name).lexically_normal().string();
       if (checkImageFiles && !fs::is_regular_file(p.imagePath)) throw InputError("NAME: file not found: " + p.imagePath);
       out.push_back(p);

@@ -3,12 +3,11 @@
 // quaternion (QW QX QY QZ, Hamilton, w first) and a translation T: x_cam = R X + T, so the centre
 // is C = -R^T T; camera x right, y down, z forward; pixels with the origin at the image's top-left
 // corner and the centre of the top-left pixel at (0.5, 0.5), as histoview's.
-// Camera models: SIMPLE_PINHOLE (f, cx, cy), PINHOLE (fx, fy, cx, cy), SIMPLE_RADIAL (f, cx, cy, k),
-// RADIAL (f, cx, cy, k1, k2). COLMAP's radial model distorts normalised coordinates u = (p - c)/f:
-// u_d = u (1 + k1 |u|^2 + k2 |u|^4), which in pixels is histoview's radial polynomial about c with
-// c3 = k1 / f^2, c5 = k2 / f^4, c7 = 0; its domain is cut where the polynomial stops being
-// monotonic (1 + 3 c3 r^2 + 5 c5 r^4 > 0). Other models (OPENCV's tangential terms, fish-eyes) are
-// reported and skipped: they need lens models this version does not have.
+// Camera models: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV (fx fy cx cy k1 k2 p1 p2),
+// SIMPLE_RADIAL_FISHEYE, RADIAL_FISHEYE and OPENCV_FISHEYE (k4 = 0). COLMAP distorts normalised
+// coordinates u = (p - c) / f, which is hv::LensDistortion with centre c and scale f; the fish-eyes
+// are its equidistant model (theta_d = theta (1 + k1 theta^2 + ...)). Domains are fitted to where
+// the radial profile increases (hv::fitLensDomain).
 #pragma once
 
 #include "hv/scene/scene.h"
@@ -22,9 +21,5 @@ namespace hv {
 // `modelDir` holds cameras.txt and images.txt; `imageDir` the photographs (NAME relative to it).
 std::vector<Photo> readColmapModel(const std::string& modelDir, const std::string& imageDir, Diagnostics& diag,
                                    bool checkImageFiles = true);
-
-// The largest r^2 (pixels^2) below which r (1 + c3 r^2 + c5 r^4) is increasing; `fallback` when it
-// increases everywhere.
-double monotonicRadius2(double c3, double c5, double fallback);
 
 }  // namespace hv

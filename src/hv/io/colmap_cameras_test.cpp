@@ -17,7 +17,8 @@ class ColmapTest : public ::testing::Test {
     std::ofstream(dir_ / "cameras.txt") << "# Camera list with one line of data per camera:\n"
                                            "1 SIMPLE_PINHOLE 640 480 500 320 240\n"
                                            "2 RADIAL 640 480 500 320 240 0.1 0.01\n"
-                                           "3 OPENCV 640 480 500 500 320 240 0 0 0 0\n";
+                                           "3 FULL_OPENCV 640 480 500 500 320 240 0 0 0 0 0 0 0 0\n"
+                                           "5 OPENCV 640 480 500 490 320 240 0.1 -0.02 0.001 0.002\n";
     const double h = std::sqrt(0.5);  // cos 45 deg = sin 45 deg: a 90 degree turn about z
     std::ofstream(dir_ / "images.txt") << "# Image list with two lines of data per image:\n"
                                           "1 1 0 0 0 0 0 5 1 a.jpg\n"
@@ -27,6 +28,8 @@ class ColmapTest : public ::testing::Test {
                                           "3 1 0 0 0 0 0 5 3 c.jpg\n"
                                           "\n"
                                           "4 0 0 0 0 0 0 5 1 d.jpg\n"
+                                          "\n"
+                                          "5 1 0 0 0 0 0 5 5 e.jpg\n"
                                           "\n";
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
@@ -36,8 +39,8 @@ class ColmapTest : public ::testing::Test {
 TEST_F(ColmapTest, ReadsPosesAndModelsAgainstHandValues) {
   Diagnostics diag;
   const auto photos = readColmapModel(dir_.string(), "/photos", diag, false);
-  ASSERT_EQ(photos.size(), 2u);
-  // Camera 3 (OPENCV) is unsupported; image 3 uses it; image 4 has a zero quaternion.
+  ASSERT_EQ(photos.size(), 3u);
+  // Camera 3 (FULL_OPENCV) is unsupported; image 3 uses it; image 4 has a zero quaternion.
   ASSERT_EQ(diag.errors.size(), 3u);
   EXPECT_NE(diag.errors[0].find("OPENCV"), std::string::npos) << diag.errors[0];
   EXPECT_NE(diag.errors[1].find("CAMERA_ID 3"), std::string::npos) << diag.errors[1];
@@ -63,14 +66,19 @@ TEST_F(ColmapTest, ReadsPosesAndModelsAgainstHandValues) {
   EXPECT_NEAR(b.project(X).pxDistorted.y, 500.0 * uy * g + 240.0, 1e-9);
 }
 
-TEST(ColmapRadial, MonotonicDomain) {
-  // 1 + 3 c3 s = 0 at s = 1 / (3 |c3|) for barrel c3 < 0 (c5 = 0).
-  EXPECT_NEAR(monotonicRadius2(-1e-6, 0.0, 1e30), 1.0 / 3e-6, 1e-3);
-  // Pincushion (c3, c5 > 0): increasing everywhere.
-  EXPECT_EQ(monotonicRadius2(1e-6, 1e-12, 1e30), 1e30);
-  // 1 + 3 c3 s + 5 c5 s^2 with c3 = -1e-6, c5 = 1e-13: roots of 5e-13 s^2 - 3e-6 s + 1.
-  const double a = 5e-13, b = -3e-6, disc = b * b - 4 * a;
-  EXPECT_NEAR(monotonicRadius2(-1e-6, 1e-13, 1e30), (-b - std::sqrt(disc)) / (2 * a), 1e-3);
+TEST_F(ColmapTest, OpenCvModelHasTangentialTerms) {
+  Diagnostics diag;
+  const auto photos = readColmapModel(dir_.string(), "/photos", diag, false);
+  ASSERT_EQ(photos.size(), 3u);
+  const Camera& e = photos[2].camera;
+  ASSERT_EQ(e.id, "e");
+  // x_cam = (1, 0.5, 5): u = (0.2, 0.1); OpenCV: u_d = u (1 + k1 r2 + k2 r2^2) + tangential.
+  const double x = 0.2, y = 0.1, r2 = x * x + y * y, radial = 1 + 0.1 * r2 - 0.02 * r2 * r2;
+  const double xd = x * radial + 2 * 0.001 * x * y + 0.002 * (r2 + 2 * x * x);
+  const double yd = y * radial + 0.001 * (r2 + 2 * y * y) + 2 * 0.002 * x * y;
+  const Projection p = e.project({1.0, 0.5, 0.0});
+  EXPECT_NEAR(p.pxDistorted.x, 320 + 500 * xd, 1e-9);
+  EXPECT_NEAR(p.pxDistorted.y, 240 + 490 * yd, 1e-9);
 }
 
 }  // namespace

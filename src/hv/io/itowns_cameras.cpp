@@ -71,7 +71,7 @@ struct RigCamera {
   glm::dvec3 positionInPano{0.0};
   glm::dvec2 focal{1.0}, principal{0.0};
   int width = 0, height = 0;
-  std::optional<RadialDistortion> distortion;
+  std::optional<LensDistortion> distortion;
   std::string mask;
 };
 
@@ -93,18 +93,31 @@ RigCamera parseRigCamera(const json& j) {
   r.height = int(size[1]);
   if (j.contains("distortion") && !j["distortion"].is_null()) {
     const json& d = j["distortion"];
-    if (d.contains("l1l2") || d.contains("etats"))
-      throw InputError("distortion: the fish-eye model (l1l2, etats) is not supported by this version");
-    RadialDistortion rd;
+    LensDistortion rd;
     const auto pps = nums(d, "pps", 2);
     rd.center = {pps[0], pps[1]};
     const auto poly = nums(d, "poly357", 3);
     rd.c3 = poly[0];
     rd.c5 = poly[1];
     rd.c7 = poly[2];
-    const double limit = d.contains("limit") ? num(d, "limit") : 1e15;
-    if (limit <= 0.0) throw InputError("distortion.limit: expected a positive radius");
-    rd.r2max = limit * limit;
+    if (d.contains("l1l2") || d.contains("etats")) {
+      // The equilinear fish-eye (iTowns' projective_texturing shader): normalised by etats, the
+      // polynomial over the angle, affine terms l1l2. iTowns applies them in its y-up texture frame
+      // (pps.y flipped to H - pps.y); in histoview's y-down pixels the affine term reads
+      // (l1 x - l2 y, -l2 x), which is what hv::LensDistortion implements. iTowns checks no `limit`
+      // on this branch; the domain is fitted to the profile and the depth map's reach instead.
+      const auto l = nums(d, "l1l2", 2);
+      const double etats = num(d, "etats");
+      if (!(etats > 0.0)) throw InputError("distortion.etats: expected a positive focal length (pixels)");
+      rd.model = LensDistortion::Model::Fisheye;
+      rd.scale = {etats, etats};
+      rd.l1 = l[0];
+      rd.l2 = l[1];
+    } else {
+      const double limit = d.contains("limit") ? num(d, "limit") : 1e15;
+      if (limit <= 0.0) throw InputError("distortion.limit: expected a positive radius");
+      rd.r2max = limit * limit;
+    }
     r.distortion = rd;
   }
   if (j.contains("mask") && j["mask"].is_string()) r.mask = j["mask"].get<std::string>();
@@ -197,6 +210,7 @@ std::vector<Photo> readITownsCameras(const ITownsSource& src, Diagnostics& diag,
         if (p.contains("date") && p["date"].is_string()) photo.date = p["date"].get<std::string>();
         try {
           validateCamera(cam);
+          fitLensDomain(cam, src.calibration, diag);
           if (checkImageFiles && !fs::is_regular_file(photo.imagePath))
             throw InputError("camera '" + cam.id + "': image: file not found: " + photo.imagePath);
           if (!photo.maskPath.empty() && !fs::is_regular_file(photo.maskPath)) {

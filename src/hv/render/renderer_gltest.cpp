@@ -69,7 +69,7 @@ TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
   addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
            testing::patternImage(160, 120, 1));
   Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
-  RadialDistortion d;
+  LensDistortion d;
   d.center = {101.0, 74.0};
   d.c3 = -4e-6;
   d.r2max = 160.0 * 160.0;
