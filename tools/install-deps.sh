@@ -12,6 +12,8 @@ packages=(
   libglm-dev libeigen3-dev nlohmann-json3-dev libnanoflann-dev libcli11-dev
   libstb-dev libpng-dev
   libgtest-dev libbenchmark-dev
+  libglfw3-dev libimgui-dev                             # the desktop viewer (histoview view): window, UI panel
+  xvfb xauth                                            # the viewer's test runs it on a virtual X display
 )
 
 missing=()

@@ -4,6 +4,7 @@
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
 #include "hv/app/render_command.h"
+#include "hv/app/view_command.h"
 
 #include <CLI/CLI.hpp>
 
@@ -18,6 +19,7 @@ void registerCommands(CLI::App& app) {
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
   addFlyCommand(app, g_exit);
+  addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
 }
 

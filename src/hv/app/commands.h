@@ -1,4 +1,4 @@
-// The subcommands of the histoview executable (render, eval, info, demo).
+// The subcommands of the histoview executable (render, eval, info, fly, view, demo).
 #pragma once
 
 namespace CLI {

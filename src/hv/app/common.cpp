@@ -136,7 +136,8 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   return s;
 }
 
-std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag) {
+std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
+                                     const std::function<std::unique_ptr<gpu::Context>()>& makeContext) {
   const render::RenderSettings settings = renderSettings(o);  // bad option values fail before loading
   auto session = std::make_unique<Session>();
   session->scene = loadScene(o.scenePath, diag);
@@ -148,7 +149,7 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag) {
     session->views = readCameraFile(o.viewsPath, viewOpts, diag);
     if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
   }
-  session->context = gpu::createHeadlessContext();
+  session->context = makeContext ? makeContext() : gpu::createHeadlessContext();
   session->renderer = std::make_unique<render::Renderer>(session->scene, settings, diag);
   return session;
 }

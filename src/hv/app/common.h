@@ -71,9 +71,11 @@ struct Session {
 };
 
 // Loads the scene and the views (when o.viewsPath is set), prints what failed, creates the context
-// and renderer. Throws (InputError, std::invalid_argument for option values) when nothing can be
-// rendered; option values are checked before anything is loaded.
-std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag);
+// (`makeContext`, e.g. a window's; default: headless EGL) and renderer. Throws (InputError,
+// std::invalid_argument for option values) when nothing can be rendered; option values are checked
+// before anything is loaded.
+std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
+                                     const std::function<std::unique_ptr<gpu::Context>()>& makeContext = {});
 render::RenderSettings renderSettings(const ViewOptions& o);
 
 }  // namespace hv::app

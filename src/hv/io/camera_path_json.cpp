@@ -49,6 +49,14 @@ CameraPath parseCameraPath(const std::string& text, const std::string& file, Dia
   }
 }
 
+std::string cameraPathJson(const std::vector<PathKey>& keys) {
+  std::vector<Photo> cams;
+  for (const auto& k : keys) cams.push_back(Photo{k.camera, "", "", ""});
+  nlohmann::json doc = nlohmann::json::parse(cameraJson(cams, ""));
+  for (size_t i = 0; i < keys.size(); ++i) doc["cameras"][i]["t"] = keys[i].time;
+  return doc.dump(1);
+}
+
 CameraPath readCameraPath(const std::string& path, Diagnostics& diag) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open camera path file");

@@ -14,5 +14,8 @@ namespace hv {
 // would fly elsewhere), as do a bad `t` and the CameraPath checks. Warnings go to `diag`.
 CameraPath readCameraPath(const std::string& path, Diagnostics& diag);
 CameraPath parseCameraPath(const std::string& text, const std::string& pathForErrors, Diagnostics& diag);
+// Writes key cameras as PATH.json (what readCameraPath reads back; e.g. a path recorded in the
+// viewer): the cameras.json schema with each key's `t`.
+std::string cameraPathJson(const std::vector<PathKey>& keys);
 
 }  // namespace hv

@@ -579,12 +579,13 @@ struct Renderer::Impl {
     bindShadeInputs(view, vf, depthSz, distorted, blend);
 
     RenderOutput out;
-    out.rgba = shade(0, view.width, view.height);
+    // The debug counts first and the colour last, so the colour target ends up holding the colour
+    // (colorTexture()).
     if (withCounts) {
-      const Image8 enc = shade(1, view.width, view.height);
-      out.counts = decodeCounts(enc);
-      out.loopLengths = decodeCounts(shade(2, view.width, view.height));
+      out.counts = decodeCounts(shade(1, view.width, view.height, true));
+      out.loopLengths = decodeCounts(shade(2, view.width, view.height, true));
     }
+    out.rgba = shade(0, view.width, view.height, settings.readBackColour);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlError("render");
     stats.lastFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -745,11 +746,14 @@ struct Renderer::Impl {
                 float(settings.background.b));
   }
 
-  Image8 shade(int mode, int w, int h) {
+  // Runs the shading pass in `mode` (0 colour, 1 contributing images, 2 loop lengths) into the
+  // colour target; reads it back when asked (else returns an empty image).
+  Image8 shade(int mode, int w, int h, bool readBack) {
     glUniform1i(shadeProgram.uniform("u_mode"), mode);
     glBindVertexArray(emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
+    if (!readBack) return {};
     Image8 img(w, h, 4);
     // Offscreen rows are stored top row first (docs/conventions.md): no flip.
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.data.data());
@@ -775,5 +779,6 @@ RenderSettings& Renderer::settings() { return impl_->settings; }
 ibr::SliceSize Renderer::sliceSize() const { return impl_->sliceSize; }
 int Renderer::sliceCount() const { return impl_->slotCount; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
+unsigned int Renderer::colorTexture() const { return impl_->viewColor.id(); }
 
 }  // namespace hv::render

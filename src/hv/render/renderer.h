@@ -51,6 +51,9 @@ struct RenderSettings {
   // tile instead of all the selected ones.
   bool tileCulling = true;
   int tileSize = 16;  // view-depth texels per tile side
+  // false: render() leaves RenderOutput::rgba empty and the colour stays on the GPU, in
+  // colorTexture() (a window presents it without a GPU -> CPU copy). Counts are read back anyway.
+  bool readBackColour = true;
 };
 
 enum class FrameMode {
@@ -108,6 +111,12 @@ class Renderer {
   ibr::SliceSize sliceSize() const;
   int sliceCount() const;
   const RenderStats& stats() const;
+  // The GL name of the RGBA8 texture that holds the last frame's colour (the same pixels as
+  // RenderOutput::rgba, alpha = coverage), stored top row first like every offscreen target
+  // (docs/conventions.md), so a window presenting it flips it. Its size is the last view's; it
+  // stays valid until the next render() (which may reallocate it for another size). 0 before the
+  // first frame.
+  unsigned int colorTexture() const;
 
  private:
   struct Impl;

@@ -1,0 +1,609 @@
+// The desktop viewer's loop and control panel (hv/viewer/viewer.h). Platform code (window, UI
+// backends) is glfw_window.cpp; navigation maths is hv/viewer/navigation.h; rendering is the
+// shared hv::render::Renderer in progressive frames.
+#include "hv/viewer/viewer.h"
+
+#include "hv/gpu/gl.h"
+#include "hv/gpu/present.h"
+#include "hv/image/colormap.h"
+#include "hv/image/image.h"
+#include "hv/io/camera_path_json.h"
+#include "hv/scene/raycast.h"
+#include "hv/viewer/desktop/glfw_window.h"
+#include "hv/viewer/navigation.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace hv::viewer {
+
+bool available() { return true; }
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A camera at `size` keeping the vertical field of view and the principal point's offset from the
+// centre (the window was resized).
+Camera reframe(const Camera& c, glm::ivec2 size) {
+  if (c.width == size.x && c.height == size.y) return c;
+  Camera r = c;
+  const double s = double(size.y) / c.height;
+  r.width = size.x;
+  r.height = size.y;
+  r.focal = c.focal * s;
+  r.principal = glm::dvec2(size) / 2.0 + (c.principal - glm::dvec2(c.width, c.height) / 2.0) * s;
+  r.skew = c.skew * s;
+  r.distortion.reset();
+  return r;
+}
+
+// Everything the panel edits that the renderer reads at construction (changing it recreates the
+// renderer) or per frame.
+struct PanelState {
+  char search[128] = "";
+  char from[32] = "", to[32] = "";
+  std::string windowError;
+  int depthSizeChoice = 2;  // index into kDepthSizes
+  char screenshotName[256] = "histoview-screenshot.png";
+  char pathName[256] = "histoview-path.json";
+  bool screenshotWithUi = false;
+  std::string message;
+};
+constexpr int kDepthSizes[] = {256, 512, 1024, 2048, 4096};
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewerOptions& o) : o_(o) {}
+
+  int run() {
+    Diagnostics diag;
+    const glm::ivec2 size = app::parseSize(o_.view.size);
+    // Everything that can be checked before the window opens and the scene loads.
+    app::renderSettings(o_.view);
+    vsync_ = !(o_.redraw || o_.printFrameTimes);
+    session_ = app::openSession(o_.view, diag, [&] {
+      auto w = std::make_unique<GlfwWindow>(size.x, size.y, "histoview", vsync_);
+      window_ = w.get();
+      return w;
+    });
+    for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
+    renderer_ = session_->renderer.get();
+    renderer_->settings().readBackColour = false;
+    const Scene& scene = session_->scene;
+    std::cout << "viewer: " << scene.photos.size() << " photographs, " << window_->description() << "\n";
+
+    Mesh all = scene.terrain;
+    all.append(scene.buildings);
+    all.append(scene.mesh);
+    if (!all.empty()) caster_ = std::make_unique<RayCaster>(all);
+    nav_ = std::make_unique<Navigator>(scene.up, caster_.get());
+    const double spacing = scene.cameraSpacing();
+    nav_->settings().speed = std::clamp(spacing, 1.0, 50.0);
+    focusSettings_.stepBack = 2.0 * spacing;
+    std::vector<glm::dvec3> centres;
+    for (const auto& p : scene.photos) centres.push_back(p.camera.center);
+    order_ = streetOrder(centres);
+    for (size_t i = 0; i < std::size(kDepthSizes); ++i)
+      if (kDepthSizes[i] == o_.view.depthSize) panel_.depthSizeChoice = int(i);
+    std::snprintf(panel_.from, sizeof panel_.from, "%s", o_.view.from.c_str());
+    std::snprintf(panel_.to, sizeof panel_.to, "%s", o_.view.to.c_str());
+    showPanel_ = !o_.hidePanel;
+
+    nav_->setCamera(startCamera(window_->framebufferSize()));
+    if (o_.walk) nav_->setMode(Mode::Walk);
+    presenter_ = std::make_unique<gpu::Presenter>();
+    return loop();
+  }
+
+ private:
+  Camera startCamera(glm::ivec2 fb) {
+    const Scene& scene = session_->scene;
+    if (!o_.camera.empty()) {
+      const Camera* found = nullptr;
+      for (const auto& v : session_->views)
+        if (v.camera.id == o_.camera) found = &v.camera;
+      for (size_t i = 0; !found && i < scene.photos.size(); ++i)
+        if (scene.photos[i].camera.id == o_.camera) {
+          found = &scene.photos[i].camera;
+          focused_ = int(i);
+        }
+      if (!found)
+        throw std::invalid_argument("--camera: no view (--views) or photograph has the id '" + o_.camera + "'");
+      // The exact camera when its aspect ratio is the window's (so the picture is `render`'s),
+      // else letterboxed into the window.
+      try {
+        return found->resized(fb.x, fb.y);
+      } catch (const std::invalid_argument&) {
+        return photoInWindow(*found, fb.x, fb.y);
+      }
+    }
+    // An overview: from the south-west, above the scene, looking at its centre.
+    const UpFrame f = upFrame(scene.up);
+    const Aabb b = scene.bounds();
+    const double extent = std::max(1.0, std::max(b.size().x, b.size().y));
+    const glm::dvec3 centre = b.center();
+    const glm::dvec3 eye = centre - (0.55 * f.north + 0.25 * f.east) * extent + 0.35 * extent * f.up;
+    const double focal = fb.y / 2.0 / std::tan(30.0 * M_PI / 180.0);
+    return lookAtCamera("viewer", eye, centre, fb.x, fb.y, focal, f.up);
+  }
+
+  NavigationInput readInput(double dt) {
+    NavigationInput in;
+    in.dt = dt;
+    const ImGuiIO& io = ImGui::GetIO();
+    GLFWwindow* w = window_->handle();
+    if (!io.WantCaptureKeyboard) {
+      auto down = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS ? 1.0 : 0.0; };
+      in.move.x = down(GLFW_KEY_D) + down(GLFW_KEY_RIGHT) - down(GLFW_KEY_A) - down(GLFW_KEY_LEFT);
+      in.move.y = down(GLFW_KEY_W) + down(GLFW_KEY_UP) - down(GLFW_KEY_S) - down(GLFW_KEY_DOWN);
+      in.move.z = down(GLFW_KEY_E) - down(GLFW_KEY_Q);
+      in.fast = down(GLFW_KEY_LEFT_SHIFT) + down(GLFW_KEY_RIGHT_SHIFT) > 0.0;
+    }
+    if (!io.WantCaptureMouse) {
+      if (ImGui::IsMouseDown(ImGuiMouseButton_Left) || ImGui::IsMouseDown(ImGuiMouseButton_Right))
+        in.lookPixels = {io.MouseDelta.x, io.MouseDelta.y};
+      if (io.MouseWheel != 0.0f)
+        nav_->settings().speed = std::clamp(nav_->settings().speed * std::pow(1.25, double(io.MouseWheel)), 0.05, 1e4);
+    }
+    return in;
+  }
+
+  void handleKeys() {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.WantCaptureKeyboard) return;
+    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) window_->requestClose();
+    if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false))
+      nav_->setMode(nav_->mode() == Mode::Fly ? Mode::Walk : Mode::Fly);
+    if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) showPanel_ = !showPanel_;
+    if (ImGui::IsKeyPressed(GLFW_KEY_C, false)) heatMap_ = !heatMap_, settingsChanged_ = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_N, false) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) stepPhoto(+1);
+    if (ImGui::IsKeyPressed(GLFW_KEY_P, false) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) stepPhoto(-1);
+    if (ImGui::IsKeyPressed(GLFW_KEY_F2, false)) screenshotRequested_ = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) toggleRecording();
+  }
+
+  void stepPhoto(int steps) {
+    const std::vector<glm::dvec3> centres = photoCentres();
+    const int current = focused_ >= 0 ? focused_ : nearestCentre(centres, nav_->camera().center);
+    const int next = focused_ >= 0 ? stepAlong(order_, current, steps) : current;
+    if (next >= 0) focusOn(next);
+  }
+
+  std::vector<glm::dvec3> photoCentres() const {
+    std::vector<glm::dvec3> c;
+    for (const auto& p : session_->scene.photos) c.push_back(p.camera.center);
+    return c;
+  }
+
+  void focusOn(int photo) {
+    focused_ = photo;
+    focusPath_ = std::make_unique<FocusContextPath>(nav_->camera(), session_->scene.photos[size_t(photo)].camera,
+                                                    focusSettings_, caster_.get());
+    focusStart_ = Clock::now();
+    nav_->setMode(Mode::Fly);
+    thumbnailFor_ = -1;
+  }
+
+  void toggleRecording() {
+    if (!recording_) {
+      recording_ = true;
+      recordStart_ = Clock::now();
+      recorded_.clear();
+      panel_.message = "recording the camera path";
+      return;
+    }
+    recording_ = false;
+    if (recorded_.empty()) return;
+    std::ofstream out(panel_.pathName);
+    out << cameraPathJson(recorded_) << "\n";
+    panel_.message = out ? "wrote " + std::to_string(recorded_.size()) + " keys to " + panel_.pathName +
+                               " (histoview fly SCENE --path " + panel_.pathName + " --out DIR)"
+                         : std::string("cannot write ") + panel_.pathName;
+    std::cout << panel_.message << "\n";
+  }
+
+  void record(const Camera& cam) {
+    const double t = msSince(recordStart_) / 1000.0;
+    // Keys at 5 Hz at most: fly's Catmull-Rom spline fills in between.
+    if (!recorded_.empty() && t < recorded_.back().time + 0.2) return;
+    if (!recorded_.empty() &&
+        (cam.width != recorded_.front().camera.width || cam.height != recorded_.front().camera.height)) {
+      panel_.message = "the window size changed: recording stopped";
+      toggleRecording();
+      return;
+    }
+    PathKey k;
+    k.camera = cam;
+    k.camera.distortion.reset();
+    k.camera.id = "k" + std::to_string(recorded_.size());
+    k.time = t;
+    recorded_.push_back(k);
+  }
+
+  void rebuildRenderer() {
+    render::RenderSettings s = renderer_->settings();
+    s.depthSize = kDepthSizes[panel_.depthSizeChoice];
+    session_->renderer.reset();
+    Diagnostics diag;
+    session_->renderer = std::make_unique<render::Renderer>(session_->scene, s, diag);
+    renderer_ = session_->renderer.get();
+    settingsChanged_ = true;
+  }
+
+  void drawPanel() {
+    render::RenderSettings& rs = renderer_->settings();
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(260, 80), ImVec2(600, std::max(120.0f, ImGui::GetIO().DisplaySize.y - 16)));
+    ImGui::Begin("histoview", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::Text("%.1f fps  (%.0f ms/frame, render %.0f ms)", smoothedMs_ > 0 ? 1000.0 / smoothedMs_ : 0.0,
+                smoothedMs_, lastRenderMs_);
+    const render::RenderStats& st = renderer_->stats();
+    ImGui::Text("%s  %s  %d waiting", nav_->mode() == Mode::Walk ? "walking" : "flying",
+                renderer_->converged() ? "converged" : "refining", st.imagesWaiting);
+    if (!panel_.message.empty()) ImGui::TextWrapped("%s", panel_.message.c_str());
+
+    if (ImGui::CollapsingHeader("Navigation")) {
+      int mode = nav_->mode() == Mode::Walk;
+      if (ImGui::RadioButton("fly", &mode, 0)) nav_->setMode(Mode::Fly);
+      ImGui::SameLine();
+      if (ImGui::RadioButton("walk (Tab)", &mode, 1)) nav_->setMode(Mode::Walk);
+      float speed = float(nav_->settings().speed);
+      if (ImGui::SliderFloat("speed", &speed, 0.1f, 200.0f, "%.1f /s", ImGuiSliderFlags_Logarithmic))
+        nav_->settings().speed = speed;
+      float eye = float(nav_->settings().eyeHeight);
+      if (ImGui::SliderFloat("eye height", &eye, 0.3f, 10.0f, "%.2f")) nav_->settings().eyeHeight = eye;
+      float ms = float(movingScale_);
+      if (ImGui::SliderFloat("resolution moving", &ms, 0.1f, 1.0f, "%.2f")) movingScale_ = ms;
+      ImGui::TextDisabled("WASD/arrows move, Q/E down/up, drag to look,\nshift faster, wheel speed, N/P next/previous "
+                          "photo,\nC heat map, F2 screenshot, R record path, H panel");
+    }
+
+    if (ImGui::CollapsingHeader("Photographs", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::InputTextWithHint("##search", "search id or date", panel_.search, sizeof panel_.search);
+      ImGui::SameLine();
+      if (ImGui::ArrowButton("##prev", ImGuiDir_Left)) stepPhoto(-1);
+      ImGui::SameLine();
+      if (ImGui::ArrowButton("##next", ImGuiDir_Right)) stepPhoto(+1);
+      ImGui::BeginChild("photos", ImVec2(0, 150), true);
+      const std::string needle = panel_.search;
+      for (int i : order_) {
+        const Photo& p = session_->scene.photos[size_t(i)];
+        if (!needle.empty() && p.camera.id.find(needle) == std::string::npos && p.date.find(needle) == std::string::npos)
+          continue;
+        const std::string label = p.camera.id + (p.date.empty() ? "" : "   " + p.date);
+        if (ImGui::Selectable(label.c_str(), focused_ == i)) focusOn(i);
+        if (focused_ == i && focusPath_ && msSince(focusStart_) < 50.0) ImGui::SetScrollHereY();
+      }
+      ImGui::EndChild();
+      if (focused_ >= 0) {
+        updateThumbnail();
+        if (thumbnail_.id()) {
+          const glm::ivec2 ts = thumbnail_.size();
+          ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(thumbnail_.id())),
+                       ImVec2(float(ts.x), float(ts.y)));
+        }
+      }
+      float back = float(focusSettings_.stepBack);
+      if (ImGui::SliderFloat("step back", &back, 0.0f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+        focusSettings_.stepBack = back;
+      float zoom = float(focusSettings_.zoomOut);
+      if (ImGui::SliderFloat("zoom out", &zoom, 0.3f, 1.0f, "%.2f")) focusSettings_.zoomOut = zoom;
+    }
+
+    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) {
+      bool changed = false;
+      changed |= ImGui::SliderInt("K", &rs.blend.k, 1, std::max(1, renderer_->sliceCount()));
+      float sigma = float(rs.blend.sigma > 0 ? rs.blend.sigma : renderer_->lastPlan().sigma);
+      if (ImGui::SliderFloat("sigma", &sigma, 0.01f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+        rs.blend.sigma = sigma;
+        changed = true;
+      }
+      int method = rs.blend.method == ibr::BlendMethod::Nearest;
+      if (ImGui::Combo("method", &method, "blend\0nearest\0")) {
+        rs.blend.method = method ? ibr::BlendMethod::Nearest : ibr::BlendMethod::Blend;
+        changed = true;
+      }
+      changed |= ImGui::Checkbox("occlusion (depth maps)", &rs.blend.occlusion);
+      changed |= ImGui::SliderInt("depth maps / frame", &rs.depthMapsPerFrame, 1, 64);
+      float budget = float(rs.depthBudgetMs);
+      if (ImGui::SliderFloat("depth budget ms", &budget, 0.0f, 200.0f, budget > 0 ? "%.0f" : "off")) {
+        rs.depthBudgetMs = budget;
+        changed = true;
+      }
+      if (ImGui::Combo("depth-map size", &panel_.depthSizeChoice, "256\0" "512\0" "1024\0" "2048\0" "4096\0"))
+        rebuildRenderer();
+      float bg[3] = {float(rs.background.r), float(rs.background.g), float(rs.background.b)};
+      if (ImGui::ColorEdit3("fallback colour", bg)) {
+        rs.background = {bg[0], bg[1], bg[2]};
+        changed = true;
+      }
+      ImGui::SetNextItemWidth(90);
+      ImGui::InputTextWithHint("##from", "from", panel_.from, sizeof panel_.from);
+      ImGui::SameLine();
+      ImGui::SetNextItemWidth(90);
+      ImGui::InputTextWithHint("##to", "to", panel_.to, sizeof panel_.to);
+      ImGui::SameLine();
+      if (ImGui::Button("time window")) {
+        try {
+          rs.blend.window = app::timeWindow(panel_.from, panel_.to);
+          panel_.windowError.clear();
+          changed = true;
+        } catch (const std::exception& e) {
+          panel_.windowError = e.what();
+        }
+      }
+      changed |= ImGui::Checkbox("dated photographs only", &rs.blend.datedOnly);
+      if (!panel_.windowError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", panel_.windowError.c_str());
+      settingsChanged_ |= changed;
+    }
+
+    if (ImGui::CollapsingHeader("Debug")) {
+      if (ImGui::Checkbox("contributing images (heat map, C)", &heatMap_)) settingsChanged_ = true;
+      if (heatMap_) ImGui::TextDisabled("dark blue: 1 image ... white: %d images", heatMax_);
+      const auto& plan = renderer_->lastPlan();
+      const auto& used = renderer_->lastImageParams();
+      const int ready = int(plan.images.size()) - st.imagesWaiting;
+      ImGui::ProgressBar(plan.images.empty() ? 1.0f : float(ready) / float(plan.images.size()), ImVec2(-1, 0),
+                         (std::to_string(ready) + " / " + std::to_string(plan.images.size()) + " images in the frame").c_str());
+      ImGui::Text("%d photographs decoded, %d depth maps rendered (%d this frame)", st.imagesLoaded,
+                  st.depthMapsRendered, st.depthMapsThisFrame);
+      ImGui::Text("tile lists: mean %.1f, max %d images", st.meanTileList, st.maxTileList);
+      if (ImGui::BeginTable("images", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY,
+                            ImVec2(0, 160))) {
+        ImGui::TableSetupColumn("photo");
+        ImGui::TableSetupColumn("distance");
+        ImGui::TableSetupColumn("weight");
+        ImGui::TableSetupColumn("state");
+        ImGui::TableHeadersRow();
+        for (const auto& im : plan.images) {
+          const bool inFrame =
+              std::any_of(used.begin(), used.end(), [&](const ibr::ImageParams& p) { return p.photo == im.photo; });
+          ImGui::TableNextRow();
+          ImGui::TableNextColumn();
+          ImGui::TextUnformatted(session_->scene.photos[size_t(im.photo)].camera.id.c_str());
+          ImGui::TableNextColumn();
+          ImGui::Text("%.1f", im.distance);
+          ImGui::TableNextColumn();
+          ImGui::Text("%.4f", im.weight);
+          ImGui::TableNextColumn();
+          ImGui::TextUnformatted(inFrame ? "resident" : "pending");
+        }
+        ImGui::EndTable();
+      }
+    }
+
+    if (ImGui::CollapsingHeader("Capture")) {
+      ImGui::InputText("png", panel_.screenshotName, sizeof panel_.screenshotName);
+      ImGui::Checkbox("with the panel", &panel_.screenshotWithUi);
+      ImGui::SameLine();
+      if (ImGui::Button("screenshot (F2)")) screenshotRequested_ = true;
+      ImGui::InputText("path", panel_.pathName, sizeof panel_.pathName);
+      if (ImGui::Button(recording_ ? "stop recording (R)" : "record camera path (R)")) toggleRecording();
+      if (recording_) {
+        ImGui::SameLine();
+        ImGui::Text("%zu keys", recorded_.size());
+      }
+    }
+    ImGui::End();
+  }
+
+  void updateThumbnail() {
+    if (thumbnailFor_ == focused_) return;
+    thumbnailFor_ = focused_;
+    try {
+      const Image8 img = readImage(session_->scene.photos[size_t(focused_)].imagePath, 3);
+      const int w = 240, h = std::max(1, int(std::lround(double(img.height) * w / img.width)));
+      thumbnail_.upload(resizeImage(img, w, h));
+    } catch (const std::exception& e) {
+      panel_.message = e.what();
+    }
+  }
+
+  void writeScreenshot(const std::string& path, glm::ivec2 fb) {
+    writePng(path, gpu::readFramebufferFlipped(fb));
+    std::cout << "wrote " << path << " (" << fb.x << "x" << fb.y << ")\n";
+  }
+
+  int loop() {
+    auto last = Clock::now();
+    int frame = 0;
+    bool haveFrame = false;
+    double renderedScale = 0.0;
+    Camera rendered;
+    std::vector<double> convergedMs, allMs;
+    int exitCode = 0;
+    while (!window_->shouldClose()) {
+      const auto t0 = Clock::now();
+      // Idle (nothing moving, the view converged): sleep until an event instead of spinning.
+      const bool idle = haveFrame && !focusPath_ && renderer_->converged() && renderedScale == 1.0 && !o_.redraw &&
+                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge;
+      window_->pollEvents(idle ? 0.25 : 0.0);
+      const double dt = std::clamp(std::chrono::duration<double>(Clock::now() - last).count(), 0.0, 0.1);
+      last = Clock::now();
+
+      window_->beginUi();
+      handleKeys();
+
+      const glm::ivec2 fb = window_->framebufferSize();
+      if (fb.x <= 0 || fb.y <= 0) {  // minimised
+        ImGui::EndFrame();
+        continue;
+      }
+      // Camera: a focus + context transition, else the keys and mouse.
+      const NavigationInput in = readInput(dt);
+      if (focusPath_) {
+        const double t = msSince(focusStart_) / 1000.0;
+        nav_->setCamera(focusPath_->at(t));
+        if (t >= focusPath_->duration()) focusPath_.reset();
+        if (in.move != glm::dvec3(0.0) || in.lookPixels != glm::dvec2(0.0)) focusPath_.reset();  // the user takes over
+      } else if (nav_->update(in)) {
+        if (nav_->camera().distortion) {  // a distorted start view stays distorted only until it moves
+          Camera c = nav_->camera();
+          c.distortion.reset();
+          nav_->setCamera(c);
+        }
+        if (in.move != glm::dvec3(0.0)) focused_ = -1;
+      }
+      if (nav_->camera().width != fb.x || nav_->camera().height != fb.y) nav_->setCamera(reframe(nav_->camera(), fb));
+      const Camera& cam = nav_->camera();
+      const bool moved = !haveFrame || cam.center != rendered.center || cam.camFromWorld != rendered.camFromWorld ||
+                         cam.focal != rendered.focal || cam.width != rendered.width || cam.height != rendered.height;
+      if (recording_) record(cam);
+
+      // Progressive rendering: reduced resolution while moving, full once still; frames go on
+      // until every selected image is resident with a current depth map.
+      const double scale = moved && haveFrame ? movingScale_ : 1.0;
+      const bool needRender = moved || settingsChanged_ || !renderer_->converged() || renderedScale != scale || o_.redraw;
+      Camera view = cam;
+      if (scale < 1.0) {
+        const int w = std::max(16, int(std::lround(cam.width * scale))), h = std::max(16, int(std::lround(cam.height * scale)));
+        view = cam.scaled(double(h) / cam.height, w, h);
+      }
+      if (needRender) {
+        const auto r0 = Clock::now();
+        const render::RenderOutput out = renderer_->render(view, heatMap_, render::FrameMode::Progressive);
+        if (heatMap_) {
+          heatImage_ = colorMapCounts(out.counts);
+          heatMax_ = 0;
+          for (auto c : out.counts.data) heatMax_ = std::max(heatMax_, int(c));
+        }
+        lastRenderMs_ = msSince(r0);
+        rendered = cam;
+        renderedScale = scale;
+        renderedSize_ = {view.width, view.height};
+        haveFrame = true;
+        settingsChanged_ = false;
+      }
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      glViewport(0, 0, fb.x, fb.y);
+      glClearColor(0.f, 0.f, 0.f, 1.f);
+      glClear(GL_COLOR_BUFFER_BIT);
+      if (heatMap_ && !heatImage_.empty())
+        presenter_->presentImage(heatImage_, fb);
+      else if (renderer_->colorTexture())
+        presenter_->blitFlipped(renderer_->colorTexture(), renderedSize_, fb);
+
+      const bool converged = renderer_->converged() && renderedScale == 1.0 && !focusPath_;
+      const bool finalShot = o_.exitAfterConverge && converged && !o_.screenshot.empty();
+      bool shotAfterUi = false;
+      if (finalShot && !o_.screenshotUi) writeScreenshot(o_.screenshot, fb);
+      if (finalShot && o_.screenshotUi) shotAfterUi = true;
+      if (screenshotRequested_ && !panel_.screenshotWithUi) {
+        writeScreenshot(panel_.screenshotName, fb);
+        panel_.message = std::string("wrote ") + panel_.screenshotName;
+        screenshotRequested_ = false;
+      }
+      // The panel after the frame, so it shows this frame's state; what it changes applies next frame.
+      if (showPanel_) drawPanel();
+      window_->endUi();
+      if (shotAfterUi) writeScreenshot(o_.screenshot, fb);
+      if (screenshotRequested_) {
+        writeScreenshot(panel_.screenshotName, fb);
+        panel_.message = std::string("wrote ") + panel_.screenshotName;
+        screenshotRequested_ = false;
+      }
+      window_->swapBuffers();
+
+      const double ms = msSince(t0);
+      ++frame;
+      smoothedMs_ = smoothedMs_ <= 0.0 ? ms : 0.9 * smoothedMs_ + 0.1 * ms;
+      if (needRender) {
+        allMs.push_back(ms);
+        if (converged) convergedMs.push_back(ms);
+      }
+      if (o_.printFrameTimes)
+        std::cout << "frame " << frame << ": " << std::fixed << std::setprecision(1) << ms << " ms (render "
+                  << lastRenderMs_ << " ms, " << view.width << "x" << view.height << ", "
+                  << (converged ? "converged" : std::to_string(renderer_->stats().imagesWaiting) + " waiting") << ")\n";
+      if (frame % 15 == 0) {
+        std::ostringstream title;
+        title << "histoview - " << std::fixed << std::setprecision(1) << 1000.0 / std::max(smoothedMs_, 1e-3) << " fps";
+        window_->setTitle(title.str());
+      }
+      if (o_.exitAfterConverge && converged) {
+        std::cout << "converged after " << frame << " frame(s)\n";
+        break;
+      }
+      if (o_.frames > 0 && frame >= o_.frames) {
+        if (o_.exitAfterConverge) {
+          std::cerr << "error: not converged after " << frame << " frame(s) (--frames)\n";
+          exitCode = 1;
+        }
+        break;
+      }
+    }
+    if (recording_) toggleRecording();
+    if (o_.printFrameTimes) {
+      std::cout << std::fixed << std::setprecision(1) << "frame times: " << allMs.size() << " rendered frame(s), median "
+                << median(allMs) << " ms";
+      if (!convergedMs.empty())
+        std::cout << "; " << convergedMs.size() << " converged, median " << median(convergedMs) << " ms ("
+                  << 1000.0 / median(convergedMs) << " fps)";
+      std::cout << "\n";
+    }
+    return exitCode;
+  }
+
+  ViewerOptions o_;
+  bool vsync_ = true;
+  std::unique_ptr<app::Session> session_;
+  GlfwWindow* window_ = nullptr;  // owned by session_ (its context)
+  render::Renderer* renderer_ = nullptr;
+  std::unique_ptr<RayCaster> caster_;
+  std::unique_ptr<Navigator> nav_;
+  std::unique_ptr<gpu::Presenter> presenter_;
+  std::vector<int> order_;
+  int focused_ = -1;
+  FocusContextSettings focusSettings_;
+  std::unique_ptr<FocusContextPath> focusPath_;
+  Clock::time_point focusStart_;
+  PanelState panel_;
+  bool showPanel_ = true;
+  bool heatMap_ = false;
+  int heatMax_ = 0;
+  Image8 heatImage_;
+  bool settingsChanged_ = false;
+  bool screenshotRequested_ = false;
+  bool recording_ = false;
+  Clock::time_point recordStart_;
+  std::vector<PathKey> recorded_;
+  gpu::ImageTexture thumbnail_;
+  int thumbnailFor_ = -1;
+  double movingScale_ = 0.5;
+  double smoothedMs_ = 0.0, lastRenderMs_ = 0.0;
+  glm::ivec2 renderedSize_{0};
+
+ public:
+  void setMovingScale(double s) { movingScale_ = s; }
+};
+
+}  // namespace
+
+int run(const ViewerOptions& options) {
+  Viewer v(options);
+  v.setMovingScale(options.movingScale);
+  return v.run();
+}
+
+}  // namespace hv::viewer

@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# End-to-end test of the desktop viewer (ctest: `viewer`, labels "viewer" and "gl").
+#
+#   tests/viewer_test.sh path/to/histoview [scratch-dir]
+#
+# Generates a small demo city, opens `histoview view` on it under Xvfb at a held-out view camera,
+# lets it converge (progressive frames until every selected image is resident with a current
+# depth map) and takes a screenshot of the window, then renders the same camera with
+# `histoview render` and compares the two pictures. Exits 77 (skipped) when xvfb-run or the viewer
+# is not available, saying which.
+set -uo pipefail
+
+HV=${1:?usage: viewer_test.sh path/to/histoview [scratch-dir]}
+HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
+DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-viewer-test.XXXXXX")}
+export HV_LOG=${HV_LOG:-error}
+
+if ! command -v xvfb-run >/dev/null; then
+  echo "SKIPPED: xvfb-run is not installed (Debian: xvfb; tools/install-deps.sh installs it)"
+  exit 77
+fi
+if "$HV" view --help 2>&1 | grep -q "not in this build"; then
+  echo "SKIPPED: this histoview was built without the viewer (GLFW and Dear ImGui not found)"
+  exit 77
+fi
+rm -rf "$DIR"
+mkdir -p "$DIR"
+
+"$HV" demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3 >"$DIR/demo.out" 2>&1 ||
+  { echo "FAIL: demo generation"; cat "$DIR/demo.out"; exit 1; }
+city=$DIR/city
+
+# The held-out view and a window of its aspect ratio (320 pixels wide).
+read -r id w h < <(python3 -c '
+import json, sys
+c = json.load(open(sys.argv[1]))["cameras"][0]
+print(c["id"], 320, round(320 * c["height"] / c["width"]))' "$city/views.json")
+size=${w}x${h}
+
+# The viewer: -screen gives Xvfb a 24-bit visual (its default depth is 8 bits per channel too,
+# but say it). --frames caps the run in case it never converges.
+xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
+  --size "$size" --screenshot "$DIR/viewer.png" --exit-after-converge --frames 400 --hide-panel \
+  --print-frame-times >"$DIR/view.out" 2>&1
+rc=$?
+if ((rc != 0)) || [[ ! -s $DIR/viewer.png ]]; then
+  echo "FAIL: histoview view exited with $rc (or wrote no screenshot); output:"
+  tail -30 "$DIR/view.out"
+  exit 1
+fi
+grep -E "converged after|wrote" "$DIR/view.out"
+
+"$HV" render "$city/scene.json" --views "$city/views.json" --size "$size" --out "$DIR/render" >"$DIR/render.out" 2>&1 ||
+  { echo "FAIL: histoview render"; cat "$DIR/render.out"; exit 1; }
+
+# PSNR over RGB between the two PNGs (a small decoder: Python's standard library has no PNG
+# reader). The viewer runs the same renderer on the same camera and, once converged, the same
+# images and depth maps, and the window shows the colour target through a same-size (nearest)
+# blit, so the pictures should be identical (PSNR infinite). The bound, 50 dB (RMS error below
+# one grey level in 255), leaves room only for a window framebuffer that would dither or convert
+# colours; a flipped, shifted, rescaled or partially converged picture scores far below it
+# (a one-row shift of the demo city is under 25 dB).
+python3 - "$DIR/viewer.png" "$DIR/render/$id.png" "$DIR" <<'EOF'
+import math, struct, sys, zlib
+
+def read_png(path):
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path + ": not a PNG"
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            assert depth == 8 and ctype in (2, 6) and interlace == 0, path + ": expected 8-bit RGB(A)"
+            ch = 3 if ctype == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, stride, rows, prev = zlib.decompress(idat), w * ch, [], bytearray(w * ch)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - ch] if i >= ch else 0
+            b, c = prev[i], prev[i - ch] if i >= ch else 0
+            if f == 1: line[i] = (line[i] + a) & 255
+            elif f == 2: line[i] = (line[i] + b) & 255
+            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(line)
+        prev = line
+    return w, h, ch, rows
+
+wa, ha, ca, A = read_png(sys.argv[1])
+wb, hb, cb, B = read_png(sys.argv[2])
+if (wa, ha) != (wb, hb):
+    print(f"FAIL: viewer screenshot is {wa}x{ha}, render {wb}x{hb}")
+    sys.exit(1)
+se, n, differing = 0, 0, 0
+for y in range(ha):
+    for x in range(wa):
+        d = [A[y][x * ca + k] - B[y][x * cb + k] for k in range(3)]
+        se += sum(v * v for v in d)
+        differing += any(d)
+        n += 3
+mse = se / n
+psnr = float("inf") if mse == 0 else 10 * math.log10(255 ** 2 / mse)
+print(f"viewer vs render: PSNR {psnr:.2f} dB, {differing} of {wa * ha} pixels differ")
+if psnr < 50.0:
+    print("FAIL: PSNR below 50 dB; images in", sys.argv[3])
+    sys.exit(1)
+print("ok")
+EOF
