@@ -165,6 +165,50 @@ done
 run bad-size render "$city/scene.json" --views "$city/views.json" --out "$DIR/rbadsize" --size 160by120
 expect_rc "render --size 160by120" fail
 
+# --- cameras convert: native in, native out (same cameras); a MicMac block georeferenced into Lambert-93
+run convert-native cameras convert "$city/scene.json" -o "$DIR/conv/cameras.json"
+expect_rc "cameras convert (native)" 0
+check "cameras convert (native): same cameras to 1e-9" python3 - "$city/cameras.json" "$DIR/conv/cameras.json" <<'PY'
+import json, sys
+a = {c["id"]: c for c in json.load(open(sys.argv[1]))["cameras"]}
+b = {c["id"]: c for c in json.load(open(sys.argv[2]))["cameras"]}
+assert a.keys() == b.keys()
+for k in a:
+    for f in ("center", "rotation", "focal", "principal"):
+        assert all(abs(x - y) <= 1e-9 * max(1.0, abs(x)) for x, y in zip(a[k][f], b[k][f])), (k, f)
+PY
+mm=$DIR/micmac
+mkdir -p "$mm/Ori-T" "$mm/img"
+cp "$city/$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["image"])' "$city/cameras.json")" "$mm/img/a.jpg"
+cat >"$mm/Ori-T/AutoCal.xml" <<'XML'
+<ExportAPERO><CalibrationInternConique><KnownConv>eConvApero_DistM2C</KnownConv><PP>320 240</PP><F>1000</F>
+<SzIm>640 480</SzIm><CalibDistortion><ModRad><CDist>320 240</CDist></ModRad></CalibDistortion></CalibrationInternConique></ExportAPERO>
+XML
+cat >"$mm/Ori-T/Orientation-a.jpg.xml" <<'XML'
+<ExportAPERO><OrientationConique><FileInterne>Ori-T/AutoCal.xml</FileInterne><Externe>
+<Centre>4201000 177000 4779000</Centre><ParamRotation><CodageMatr><L1>1 0 0</L1><L2>0 1 0</L2><L3>0 0 1</L3></CodageMatr></ParamRotation>
+</Externe></OrientationConique></ExportAPERO>
+XML
+cat >"$mm/Ori-T/Orientation-missing.jpg.xml" <<'XML'
+<ExportAPERO><OrientationConique><FileInterne>Ori-T/AutoCal.xml</FileInterne><Externe>
+<Centre>4201000 177000 4779000</Centre><ParamRotation><CodageMatr><L1>1 0 0</L1><L2>0 1 0</L2><L3>0 0 1</L3></CodageMatr></ParamRotation>
+</Externe></OrientationConique></ExportAPERO>
+XML
+echo '{"crs": "EPSG:2154", "cameras": {"format": "micmac", "orientations": "Ori-T/", "images": "img/"}}' >"$mm/scene.json"
+run convert-micmac cameras convert "$mm/scene.json" -o "$mm/out/cameras.json"
+expect_rc "cameras convert (micmac, one image missing)" 1
+expect_out "cameras convert (micmac, one image missing)" "Orientation-missing.jpg.xml.*missing.jpg.*not found"
+expect_out "cameras convert (micmac, one image missing)" "wrote 1 camera"
+check "cameras convert (micmac): centre in Lambert-93" python3 - "$mm/out/cameras.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))["cameras"][0]
+x, y, z = c["center"]
+assert 100000 < x < 1300000 and 6000000 < y < 7200000, c["center"]
+PY
+run info-micmac info "$mm/scene.json"
+expect_out "info (micmac)" "Lambert-93 \\(EPSG:2154\\)"
+expect_out "info (micmac)" "cameras from .*EPSG:4978"
+
 echo "cli test took $((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"
 ((failed == 0))

@@ -9,6 +9,7 @@ packages=(
   libgdal-dev libproj-dev libgeos-dev                   # rasters, vectors, CRSs; LOD1 triangulation
   libembree-dev                                         # CPU ray casting (demo ground truth, tests)
   libassimp-dev                                         # arbitrary meshes (PLY, OBJ, glTF)
+  libpugixml-dev                                        # MicMac orientation and calibration XML
   libglm-dev libeigen3-dev nlohmann-json3-dev libnanoflann-dev libcli11-dev
   libstb-dev libpng-dev
   libgtest-dev libbenchmark-dev

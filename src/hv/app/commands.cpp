@@ -1,5 +1,6 @@
 #include "hv/app/commands.h"
 
+#include "hv/app/cameras_command.h"
 #include "hv/app/demo_command.h"
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
@@ -21,6 +22,7 @@ void registerCommands(CLI::App& app) {
   addFlyCommand(app, g_exit);
   addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
+  addCamerasCommand(app, g_exit);
 }
 
 int exitCode() { return g_exit; }

@@ -3,6 +3,7 @@
 #include "hv/app/common.h"
 #include "hv/gpu/gl.h"
 #include "hv/image/colormap.h"
+#include "hv/io/georef.h"
 #include "hv/io/scene_loader.h"
 #include "hv/util/log.h"
 
@@ -36,7 +37,17 @@ int runInfo(const std::string& scenePath) {
     return 2;
   }
   std::cout << "scene      " << scenePath << "\n";
-  std::cout << "crs        " << (scene.crs.empty() ? "(none given)" : scene.crs) << "\n";
+  auto crsText = [](const std::string& crs) {
+    try {
+      return describeCrs(crs).summary();
+    } catch (const InputError& e) {
+      return crs + " (" + e.what() + ")";
+    }
+  };
+  std::cout << "crs        " << (scene.crs.empty() ? "(none given)" : crsText(scene.crs) + "; scene frame in metres")
+            << "\n";
+  for (const auto& [source, crs] : scene.sourceCrs)
+    std::cout << "  " << source << " from " << crsText(crs) << "\n";
   std::cout << "origin     " << vec3String(scene.origin) << " (render frame = world - origin)\n";
   std::cout << "up         " << vec3String(scene.up) << "\n";
   const Aabb b = scene.bounds();

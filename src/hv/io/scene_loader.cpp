@@ -1,10 +1,12 @@
 #include "hv/io/scene_loader.h"
 
 #include "hv/io/cameras_json.h"
-#include "hv/io/footprints.h"
 #include "hv/io/colmap_cameras.h"
+#include "hv/io/footprints.h"
+#include "hv/io/georef.h"
 #include "hv/io/itowns_cameras.h"
 #include "hv/io/mesh_reader.h"
+#include "hv/io/micmac_cameras.h"
 #include "hv/io/raster.h"
 #include "hv/scene/lod1.h"
 #include "hv/util/log.h"
@@ -42,6 +44,41 @@ glm::dvec3 vec3Field(const json& doc, const char* key, const std::string& file) 
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     throw InputError(file + ": " + key + ": expected [x, y, z]");
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+// Brings the photographs' cameras from `cameraCrs` into the scene frame; a camera PROJ cannot
+// transform is reported and left out. A geocentric scene frame (MicMac's ECEF without a scene CRS)
+// gets the local vertical at the cameras as its `up` unless scene.json declares one.
+void georeferenceCameras(Scene& scene, const std::string& cameraCrs, bool upDeclared, const std::string& path,
+                         Diagnostics& diag) {
+  std::optional<GeoTransform> made;
+  try {
+    made.emplace(cameraCrs, scene.crs, diag);
+  } catch (const InputError&) {
+    scene.photos.clear();  // cameras in an unknown frame are no cameras at all
+    throw;
+  }
+  const GeoTransform& transform = *made;
+  std::vector<Photo> kept;
+  double worstDefect = 0.0;
+  for (Photo& p : scene.photos) {
+    try {
+      double defect = 0.0;
+      p.camera = transform.camera(p.camera, &defect);
+      worstDefect = std::max(worstDefect, defect);
+      kept.push_back(std::move(p));
+    } catch (const InputError& e) {
+      diag.error(path + ": cameras: camera '" + p.camera.id + "': " + e.what() + " (camera skipped)");
+    }
+  }
+  scene.photos = std::move(kept);
+  log::debug("cameras: " + transform.source().summary() + " -> " + transform.scene().summary() +
+             ", largest non-orthogonality of the local Jacobian " + std::to_string(worstDefect));
+  if (transform.scene().geocentric && !upDeclared && !scene.photos.empty()) {
+    glm::dvec3 mean(0.0);
+    for (const Photo& p : scene.photos) mean += p.camera.center / double(scene.photos.size());
+    scene.up = ecefUp(mean);
+  }
 }
 
 }  // namespace
@@ -123,7 +160,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       const json& c = doc["cameras"];
       if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
       if (c.contains("format") && !c["format"].is_string())
-        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\" or \"colmap\")");
+        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
       const std::string format = c.value("format", "native");
       auto file = [&](const char* key) {
         if (!c.contains(key) || !c[key].is_string())
@@ -142,9 +179,23 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
         scene.photos = readITownsCameras({file("orientations"), file("calibration"), images, dir}, diag);
       } else if (format == "colmap") {
         scene.photos = readColmapModel(file("path"), file("images"), diag);
+      } else if (format == "micmac") {
+        scene.photos = readMicmacCameras(file("orientations"), file("images"), diag);
       } else {
-        throw InputError(path + ": cameras.format: expected \"native\", \"itowns\" or \"colmap\", got \"" + format +
-                         "\"");
+        throw InputError(path + ": cameras.format: expected \"native\", \"itowns\", \"colmap\" or \"micmac\", got \"" +
+                         format + "\"");
+      }
+      // Georeferencing: the cameras' CRS (cameras.crs, or the format's own: MicMac's centres are
+      // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
+      if (c.contains("crs") && !c["crs"].is_string())
+        throw InputError(path + ": cameras.crs: expected a CRS string (\"EPSG:4978\", WKT, a PROJ string)");
+      const std::string cameraCrs = c.contains("crs") ? c["crs"].get<std::string>()
+                                    : format == "micmac" ? std::string("EPSG:4978")
+                                                         : std::string();
+      if (!cameraCrs.empty()) {
+        scene.sourceCrs.emplace_back("cameras", cameraCrs);
+        if (scene.crs.empty()) scene.crs = cameraCrs;
+        georeferenceCameras(scene, cameraCrs, doc.contains("up"), path, diag);
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");

@@ -21,7 +21,10 @@ struct Photo {
 
 struct Scene {
   std::string path;        // scene.json
-  std::string crs;         // informative
+  std::string crs;         // the scene CRS: the world frame is it with linear units in metres (hv/io/georef.h)
+  // The CRS each source was given in ("cameras" -> "EPSG:4978"), for `histoview info`; a source
+  // absent here is in the scene frame as it is.
+  std::vector<std::pair<std::string, std::string>> sourceCrs;
   glm::dvec3 origin{0.0};  // render origin (world)
   glm::dvec3 up{0.0, 0.0, 1.0};
   Mesh terrain;
