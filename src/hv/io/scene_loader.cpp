@@ -4,14 +4,18 @@
 #include "hv/io/footprints.h"
 #include "hv/io/colmap_cameras.h"
 #include "hv/io/itowns_cameras.h"
+#include "hv/io/las_reader.h"
 #include "hv/io/mesh_reader.h"
+#include "hv/io/ply_points.h"
 #include "hv/io/raster.h"
+#include "hv/points/chunks.h"
 #include "hv/scene/lod1.h"
 #include "hv/util/log.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -42,6 +46,15 @@ glm::dvec3 vec3Field(const json& doc, const char* key, const std::string& file) 
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     throw InputError(file + ": " + key + ": expected [x, y, z]");
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+// A point cloud by its extension: LAS (.las; .laz is refused with advice) or PLY.
+PointCloud readPointFile(const std::string& p) {
+  std::string ext = fs::path(p).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".las" || ext == ".laz") return readLas(p);
+  if (ext == ".ply") return readPlyPoints(p);
+  throw InputError(inputMessage(p, "points.path", "expected a .las or .ply file"));
 }
 
 }  // namespace
@@ -118,6 +131,24 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (mesh left out)");
     }
   }
+  if (doc.contains("points")) {
+    try {
+      const std::string p = sourcePath(doc, "points", dir, path);
+      const auto t0 = std::chrono::steady_clock::now();
+      scene.points = readPointFile(p);
+      const json& crs = doc["points"].contains("crs") ? doc["points"]["crs"] : json();
+      if (!crs.is_null() && !crs.is_string())
+        throw InputError(path + ": points.crs: expected a CRS string (e.g. \"EPSG:2154\") or null");
+      if (crs.is_string()) scene.points.crs = crs.get<std::string>();  // overrides the file's
+      organizeChunks(scene.points);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      log::debug("points: " + p + ": " + std::to_string(scene.points.size()) + " points, " +
+                 std::to_string(scene.points.chunks.size()) + " chunks, " + std::to_string(s) + " s");
+    } catch (const InputError& e) {
+      scene.points = PointCloud{};
+      diag.error(std::string(e.what()) + " (points left out)");
+    }
+  }
   if (doc.contains("cameras")) {
     try {
       const json& c = doc["cameras"];
@@ -153,7 +184,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
 
 
   // Keys this version knows; anything else is reported rather than silently ignored.
-  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "cameras"};
+  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "points", "cameras"};
   for (const auto& [key, value] : doc.items()) {
     if (std::find(std::begin(kKnown), std::end(kKnown), key) == std::end(kKnown))
       diag.warn(path + ": " + key + ": not read by this version of histoview (ignored)");
