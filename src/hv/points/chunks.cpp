@@ -101,7 +101,9 @@ std::vector<ChunkDraw> selectChunks(const PointCloud& cloud, const Camera& view,
     const double r = std::max(0.5 * glm::length(c.bounds.size()), 1e-6);
     const double d = glm::length(c.bounds.center() - view.center);
     const double px = focal * r / std::max(d, r);
-    visible.push_back({i, d, std::min(std::numbers::pi * px * px, imageArea), c.count});
+    // Degenerate input (infinite extents) must not poison the shares: such a chunk gets a token weight.
+    const double area = std::numbers::pi * px * px;
+    visible.push_back({i, d, std::isfinite(area) && area > 0.0 ? std::min(area, imageArea) : 1e-12, c.count});
   }
 
   // Water-filling: find lambda with sum_c min(n_c, lambda w_c) = budget. Chunks that saturate
