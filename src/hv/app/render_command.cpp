@@ -27,6 +27,27 @@ std::string vec3String(const glm::dvec3& v) {
   return s.str();
 }
 
+void printPoints(const PointCloud& points) {
+  std::cout << "points     " << points.size();
+  if (points.empty()) {
+    std::cout << "\n";
+    return;
+  }
+  std::cout << " (" << points.fields().describe() << "; " << points.chunks.size() << " chunks)\n";
+  const Aabb b = points.bounds();
+  std::cout << "  bounds   " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
+  std::string crs = points.crs.empty() ? "(none declared)" : points.crs;
+  if (crs.size() > 100) crs = crs.substr(0, 97) + "...";
+  std::cout << "  crs      " << crs << "\n";
+  if (points.fields().classification) {
+    const auto h = points.classHistogram();
+    std::cout << "  classes ";
+    for (int c = 0; c < 256; ++c)
+      if (h[size_t(c)]) std::cout << " " << c << ":" << h[size_t(c)];
+    std::cout << "\n";
+  }
+}
+
 int runInfo(const std::string& scenePath) {
   Diagnostics diag;
   Scene scene;
@@ -57,6 +78,7 @@ int runInfo(const std::string& scenePath) {
   std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
   std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()
             << " triangles\n";
+  printPoints(scene.points);
   std::cout << "photos     " << scene.photos.size() << " (camera spacing " << std::setprecision(4)
             << scene.cameraSpacing() << ")\n";
   std::map<std::string, int> sizes;

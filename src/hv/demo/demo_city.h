@@ -1,5 +1,5 @@
 // The demo city: a deterministic synthetic scene with known ground truth (issue 2, "The demo city";
-// issue 4 point 8 will scan the same World with a simulated lidar).
+// issue 4 point 8 scans the same World with a simulated mobile-mapping lidar: simulateLidar).
 //
 // What is generated, in world coordinates of EPSG:2154 (Lambert-93, metres, z up) around
 // (651000, 6862000):
@@ -31,6 +31,7 @@
 
 #include "hv/camera/camera.h"
 #include "hv/image/image.h"
+#include "hv/points/point_cloud.h"
 #include "hv/scene/heightfield.h"
 #include "hv/scene/lod1.h"
 #include "hv/scene/mesh.h"
@@ -80,6 +81,17 @@ struct CitySettings {
   double maskDilation = 2.0;  // pixels (Chebyshev), around car pixels
 };
 
+// The simulated mobile-mapping scan (issue 4, point 8): a vehicle drives every street in its
+// right-hand lane; a scanner on its roof turns in the vertical plane across the street and
+// casts `raysPerProfile` rays per turn, one turn every `profileSpacing` metres of travel.
+struct LidarSettings {
+  double profileSpacing = 0.75;  // metres of travel between two turns of the scanner
+  int raysPerProfile = 240;      // rays per full turn (1.5 degrees apart)
+  double scannerHeight = 2.4;    // above the ground under the vehicle
+  double laneOffset = 2.0;       // right of the street's centre line
+  double minRange = 0.5, maxRange = 60.0;
+};
+
 struct DemoOptions {
   std::uint32_t seed = 1;
   int buildings = 40;
@@ -87,6 +99,7 @@ struct DemoOptions {
   int views = 8;
   int samplesPerAxis = 2;  // supersampling: samplesPerAxis^2 rays per pixel
   CitySettings city;
+  LidarSettings lidar;
 };
 
 // Material ids: the ground-truth mesh's Mesh::triangleTags.
@@ -222,13 +235,23 @@ struct Rendered {
 // regular sub-grid, averaged; rows shared among all cores. The era cast is applied last.
 Rendered renderShot(const World& world, const RayCaster& truthCaster, const Shot& shot, int samplesPerAxis);
 
+// Scans today's city (World::truth plus the trees and parked cars) with the mobile-mapping
+// scanner of options.lidar: every hit becomes a point with its ASPRS class (asprsClass of the hit
+// material: ground 2, building 6, trees 5, cars 1), its ground-truth colour (shade(), 8-bit values
+// scaled to 16 bits), an intensity (the colour's luma times the cosine of incidence), and the hit
+// triangle's normal turned towards the scanner. Points come street by street, turn by turn, ray by
+// ray (deterministic; turns are shared among all cores). CRS "EPSG:2154".
+PointCloud simulateLidar(const World& world);
+
 struct DemoSummary {
   std::string scenePath, viewsPath, truthDir;
   int photos = 0, views = 0, buildings = 0;
+  std::size_t points = 0;  // of the simulated lidar scan
 };
 
 // Writes the demo scene into outDir (created): scene.json, dtm.tif, buildings.geojson,
-// cameras.json, images/, masks/, views.json, truth/ (see docs/demo-city.md).
+// points.las and points.ply (the lidar scan), cameras.json, images/, masks/, views.json, truth/
+// (see docs/demo-city.md).
 DemoSummary generate(const DemoOptions& options, const std::string& outDir,
                      std::function<void(const std::string&)> progress = {});
 

@@ -9,6 +9,8 @@
 #include <set>
 
 #include "hv/demo/demo_city.h"
+#include "hv/io/las_reader.h"
+#include "hv/io/ply_points.h"
 #include "hv/io/raster.h"
 #include "hv/scene/lod1.h"
 
@@ -124,6 +126,7 @@ TEST_F(DemoCity, FilesExistAndParse) {
   EXPECT_EQ(scene["buildings"]["path"], "buildings.geojson");
   EXPECT_EQ(scene["buildings"]["height"], "height");
   EXPECT_EQ(scene["cameras"]["path"], "cameras.json");
+  EXPECT_EQ(scene["points"]["path"], "points.las");
 
   const Heightfield dtm = readHeightfield((*dir_ / "dtm.tif").string());
   ASSERT_FALSE(dtm.empty());
@@ -293,8 +296,56 @@ TEST_F(DemoCity, Deterministic) {
   EXPECT_EQ(readBytes(*dir_ / "buildings.geojson"), readBytes(b / "buildings.geojson"));
   EXPECT_EQ(readBytes(*dir_ / "images" / "p0001.png"), readBytes(b / "images" / "p0001.png"));
   EXPECT_EQ(readBytes(*dir_ / "truth" / "v001.png"), readBytes(b / "truth" / "v001.png"));
+  EXPECT_EQ(readBytes(*dir_ / "points.las"), readBytes(b / "points.las"));
+  EXPECT_EQ(readBytes(*dir_ / "points.ply"), readBytes(b / "points.ply"));
   EXPECT_FALSE(readBytes(b / "images" / "p0001.png").empty());
   fs::remove_all(b);
+}
+
+// The lidar scan: the LAS and PLY files hold the same points; every class is there in plausible
+// shares; trees and parked cars are scanned where they stand; each point lies on the surface its
+// normal belongs to.
+TEST_F(DemoCity, LidarScanHasPlausibleClassesOnTheSurfaces) {
+  const PointCloud las = readLas((*dir_ / "points.las").string());
+  const PointCloud ply = readPlyPoints((*dir_ / "points.ply").string());
+  ASSERT_EQ(las.size(), ply.size());
+  ASSERT_GT(las.size(), 10000u);
+  EXPECT_EQ(las.crs, "EPSG:2154");
+  EXPECT_EQ(ply.crs, "EPSG:2154");
+  ASSERT_TRUE(ply.fields().normals && ply.fields().rgb && las.fields().rgb);
+  for (std::size_t i = 0; i < las.size(); i += 97) {
+    EXPECT_LT(glm::length(las.positions[i] - ply.positions[i]), 1e-3);  // LAS quantises to mm
+    EXPECT_EQ(las.rgb[i], ply.rgb[i]);
+    EXPECT_EQ(las.classification[i], ply.classification[i]);
+  }
+  const auto h = las.classHistogram();
+  const double n = double(las.size());
+  std::printf("[ lidar ] %zu points: ground %zu, building %zu, vegetation %zu, cars %zu\n", las.size(), h[2], h[6],
+              h[5], h[1]);
+  EXPECT_EQ(h[1] + h[2] + h[5] + h[6], las.size()) << "only the classes of asprsClass()";
+  EXPECT_GT(h[2] / n, 0.2);
+  EXPECT_GT(h[6] / n, 0.1);
+  EXPECT_GT(h[5], 500u) << "trees are scanned";
+  EXPECT_GT(h[1], 100u) << "parked cars are scanned";
+  const Aabb trees = world_->trees.mesh.bounds(), cars = world_->parkedCars.mesh.bounds();
+  Layer scanned = world_->truth;
+  scanned.append(world_->trees);
+  scanned.append(world_->parkedCars);
+  const RayCaster caster(scanned.mesh);
+  // A point on a triangle's edge (a car's or a crown's silhouette) may be missed by the float
+  // ray cast back: allow 1 % of the sample.
+  std::size_t sampled = 0, onSurface = 0;
+  for (std::size_t i = 0; i < ply.size(); i += 37) {
+    const glm::dvec3 p = ply.positions[i];
+    if (ply.classification[i] == 5) EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, trees.lo - 1e-6)));
+    if (ply.classification[i] == 1) EXPECT_TRUE(glm::all(glm::lessThanEqual(p, cars.hi + 1e-6)));
+    const glm::dvec3 normal(ply.normals[i]);
+    EXPECT_NEAR(glm::length(normal), 1.0, 1e-5);
+    const auto back = caster.intersect(p + 0.05 * normal, -normal, 0.0, 0.1);
+    ++sampled;
+    onSurface += back && std::abs(back->t - 0.05) < 1e-3;
+  }
+  EXPECT_GT(double(onSurface), 0.99 * double(sampled)) << onSurface << " of " << sampled << " on their surface";
 }
 
 TEST_F(DemoCity, PhotoPixelsAreTheGroundTruthShade) {

@@ -1,4 +1,5 @@
 // Writes the demo scene to disk: the renderer's inputs (scene.json, dtm.tif, buildings.geojson,
+// points.las/.ply,
 // cameras.json, images/, masks/) and the evaluation ground truth (views.json, truth/).
 #include <chrono>
 #include <filesystem>
@@ -9,6 +10,8 @@
 
 #include "hv/demo/demo_city.h"
 #include "hv/io/cameras_json.h"
+#include "hv/io/las_writer.h"
+#include "hv/io/ply_points.h"
 #include "hv/io/raster.h"
 
 namespace hv::demo {
@@ -73,9 +76,22 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   }
   writeGeoTiff((dir / "dtm.tif").string(), world.dtm, "EPSG:2154");
   writeJson(dir / "buildings.geojson", buildingsGeoJson(world));
+  const auto tScan = std::chrono::steady_clock::now();
+  const PointCloud scan = simulateLidar(world);
+  writeLas((dir / "points.las").string(), scan);  // LAS 1.2, format 3 (RGB)
+  writePlyPoints((dir / "points.ply").string(), scan);  // the same points with their normals
+  {
+    const auto h = scan.classHistogram();
+    std::ostringstream m;
+    m << "demo city: lidar scan, " << scan.size() << " points (ground " << h[2] << ", building " << h[6]
+      << ", vegetation " << h[5] << ", cars " << h[1] << ") in "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - tScan).count() << " s";
+    say(m.str());
+  }
   writeJson(dir / "scene.json", {{"crs", "EPSG:2154"},
                                  {"terrain", {{"path", "dtm.tif"}}},
                                  {"buildings", {{"path", "buildings.geojson"}, {"height", "height"}}},
+                                 {"points", {{"path", "points.las"}}},
                                  {"cameras", {{"path", "cameras.json"}}}});
 
   const RayCaster caster(world.truth.mesh);
@@ -123,6 +139,7 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   summary.photos = int(plan.photos.size());
   summary.views = int(plan.views.size());
   summary.buildings = int(world.buildings.size());
+  summary.points = scan.size();
   return summary;
 }
 

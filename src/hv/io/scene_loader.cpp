@@ -5,15 +5,19 @@
 #include "hv/io/footprints.h"
 #include "hv/io/georef.h"
 #include "hv/io/itowns_cameras.h"
+#include "hv/io/las_reader.h"
 #include "hv/io/mesh_reader.h"
 #include "hv/io/micmac_cameras.h"
+#include "hv/io/ply_points.h"
 #include "hv/io/raster.h"
+#include "hv/points/chunks.h"
 #include "hv/scene/lod1.h"
 #include "hv/util/log.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -79,6 +83,40 @@ void georeferenceCameras(Scene& scene, const std::string& cameraCrs, bool upDecl
     for (const Photo& p : scene.photos) mean += p.camera.center / double(scene.photos.size());
     scene.up = ecefUp(mean);
   }
+}
+
+// Brings a point cloud into the scene frame (hv/io/georef.h): from its own CRS (the file's, or
+// points.crs) or, when it declares none, from the scene CRS, whose units still become metres
+// (the Autzen sample is in international feet). Normals turn with the local Jacobian at the
+// cloud's centre.
+void georeferencePoints(PointCloud& cloud, const std::string& sceneCrs, const std::string& file, Diagnostics& diag) {
+  if (cloud.empty()) return;
+  const std::string source = cloud.crs.empty() ? sceneCrs : cloud.crs;
+  const GeoTransform transform(source, sceneCrs, diag);
+  const bool sameCrs = source == sceneCrs;
+  const bool metres = transform.source().horizontalToMetre == 1.0 && transform.zToMetre() == 1.0;
+  if (sameCrs && metres) return;
+  const glm::dvec3 centre = cloud.bounds().center();
+  glm::dmat3 turn = transform.jacobian(centre);
+  transform.points(cloud.positions);
+  if (!cloud.normals.empty()) {
+    turn = glm::inverse(glm::transpose(turn));  // normals transform by J^-T
+    for (glm::vec3& n : cloud.normals) {
+      const glm::dvec3 m = turn * glm::dvec3(n);
+      const double len = glm::length(m);
+      if (len > 0.0) n = glm::vec3(m / len);
+    }
+  }
+  log::debug("points: " + file + ": " + transform.source().summary() + " -> " + transform.scene().summary());
+}
+
+// A point cloud by its extension: LAS (.las; .laz is refused with advice) or PLY.
+PointCloud readPointFile(const std::string& p) {
+  std::string ext = fs::path(p).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".las" || ext == ".laz") return readLas(p);
+  if (ext == ".ply") return readPlyPoints(p);
+  throw InputError(inputMessage(p, "points.path", "expected a .las or .ply file"));
 }
 
 }  // namespace
@@ -155,6 +193,25 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (mesh left out)");
     }
   }
+  if (doc.contains("points")) {
+    try {
+      const std::string p = sourcePath(doc, "points", dir, path);
+      const auto t0 = std::chrono::steady_clock::now();
+      scene.points = readPointFile(p);
+      const json& crs = doc["points"].contains("crs") ? doc["points"]["crs"] : json();
+      if (!crs.is_null() && !crs.is_string())
+        throw InputError(path + ": points.crs: expected a CRS string (e.g. \"EPSG:2154\") or null");
+      if (crs.is_string()) scene.points.crs = crs.get<std::string>();  // overrides the file's
+      if (!scene.crs.empty()) georeferencePoints(scene.points, scene.crs, p, diag);
+      organizeChunks(scene.points);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      log::debug("points: " + p + ": " + std::to_string(scene.points.size()) + " points, " +
+                 std::to_string(scene.points.chunks.size()) + " chunks, " + std::to_string(s) + " s");
+    } catch (const InputError& e) {
+      scene.points = PointCloud{};
+      diag.error(std::string(e.what()) + " (points left out)");
+    }
+  }
   if (doc.contains("cameras")) {
     try {
       const json& c = doc["cameras"];
@@ -204,7 +261,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
 
 
   // Keys this version knows; anything else is reported rather than silently ignored.
-  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "cameras"};
+  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "points", "cameras"};
   for (const auto& [key, value] : doc.items()) {
     if (std::find(std::begin(kKnown), std::end(kKnown), key) == std::end(kKnown))
       diag.warn(path + ": " + key + ": not read by this version of histoview (ignored)");

@@ -9,6 +9,11 @@ Aabb Scene::bounds() const {
   Aabb b = terrain.bounds();
   b.extend(buildings.bounds());
   b.extend(mesh.bounds());
+  if (points.chunks.empty()) {
+    b.extend(points.bounds());
+  } else {
+    for (const PointChunk& c : points.chunks) b.extend(c.bounds);
+  }
   for (const auto& p : photos) b.extend(p.camera.center);
   return b;
 }

@@ -1,9 +1,11 @@
-// A loaded scene: the geometry (terrain, LOD1 buildings) and the photographs with their cameras.
+// A loaded scene: the geometry (terrain, LOD1 buildings, meshes, a point cloud) and the
+// photographs with their cameras.
 // Everything is in the world frame (the scene CRS); `origin` is the render origin subtracted
 // before anything goes to the GPU.
 #pragma once
 
 #include "hv/camera/camera.h"
+#include "hv/points/point_cloud.h"
 #include "hv/scene/mesh.h"
 #include "hv/util/dates.h"
 
@@ -30,6 +32,9 @@ struct Scene {
   Mesh terrain;
   Mesh buildings;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
+  // scene.json "points" (empty: none), organised into chunks (hv/points/chunks.h) at load. In
+  // its source CRS (points.crs, or scene.json's override), which is not transformed here.
+  PointCloud points;
   // When each building existed, indexed by the buildings mesh's triangle tags (open-ended by
   // default). A photograph does not texture a building that did not exist at its date.
   std::vector<DateInterval> buildingValidity;
