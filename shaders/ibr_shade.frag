@@ -34,6 +34,9 @@ uniform int u_method;           // 0 blend, 1 nearest
 uniform bool u_occlusion;
 uniform int u_mode;             // 0 colour, 1 contributing-image count, 2 loop length (16 bits in r, g)
 uniform vec3 u_background;
+// > 0: pixels without geometry see a sphere of this radius around the view (iTowns'
+// backgroundDistance); from a photograph's own centre it shows the photograph whatever the radius.
+uniform float u_sphereRadius;
 
 out vec4 o_color;
 
@@ -77,6 +80,7 @@ bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out 
 
 // The shadow test against the depth map's stored value (Brédif 2013 §2.2).
 bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P) {
+  if (stored >= 1.0) return false;  // the photograph saw no geometry there: nothing occludes
   float zMap = mix(im.near, im.far, stored);
   return z > zMap + hv_shadowBias(im, z, normal, normalize(P - im.C));
 }
@@ -118,9 +122,12 @@ void main() {
   vec2 t = (pIdeal - u_viewRectMin) * u_viewRectInvSize;
   ivec2 dpix = clamp(ivec2(floor(t * vec2(u_viewDepthSize))), ivec2(0), u_viewDepthSize - 1);
   float d = texelFetch(u_viewDepth, dpix, 0).r;
-  background = background || d >= 1.0;
-  float zView = mix(u_viewNear, u_viewFar, d);
-  vec3 P = u_viewCenter + zView * (u_viewDirFromPix * vec3(pIdeal, 1.0));
+  // No geometry under the pixel: the background sphere around the view when there is one.
+  bool onSphere = d >= 1.0 && u_sphereRadius > 0.0;
+  background = background || (d >= 1.0 && !onSphere);
+  vec3 ray = u_viewDirFromPix * vec3(pIdeal, 1.0);
+  vec3 P = onSphere ? u_viewCenter + u_sphereRadius * normalize(ray)
+                    : u_viewCenter + mix(u_viewNear, u_viewFar, d) * ray;
   vec3 normal = cross(dFdx(P), dFdy(P));
   normal = dot(normal, normal) > 0.0 ? normalize(normal) : vec3(0.0, 0.0, 1.0);
   if (background) {

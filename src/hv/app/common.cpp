@@ -61,6 +61,10 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
                  "progressive frames: render depth maps until this many ms are spent (at least one)")
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--background", o.background, "background colour R,G,B (0-255)");
+  cmd.add_option("--background-distance", o.backgroundDistance,
+                 "project photographs onto a sphere of this radius (scene units) around the view where there "
+                 "is no geometry, as iTowns' backgroundDistance; 0: never; default: only in a scene without "
+                 "geometry (radius 100)");
   cmd.add_option("--from", o.from,
                  "only photographs dated on or after DATE (ISO 8601; a partial date such as 1905 is the "
                  "interval it names, and matches when the intervals overlap)")
@@ -131,6 +135,7 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   s.depthMapsPerFrame = o.depthMapsPerFrame;
   s.depthBudgetMs = o.depthBudgetMs;
   s.background = parseColour(o.background);
+  s.backgroundSphere = o.backgroundDistance;
   s.blend.window = timeWindow(o.from, o.to);
   s.blend.datedOnly = o.datedOnly;
   return s;

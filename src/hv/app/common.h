@@ -39,6 +39,7 @@ struct ViewOptions {
   int depthMapsPerFrame = 4;       // progressive frames (fly --progressive)
   double depthBudgetMs = 0.0;      // progressive frames: time budget for depth maps instead
   std::string background = "0,0,0";
+  double backgroundDistance = -1.0;  // render::RenderSettings::backgroundSphere
   std::string from, to;             // time window, ISO 8601 dates; empty: open on that side
   bool datedOnly = false;
 };

@@ -565,7 +565,8 @@ struct Renderer::Impl {
 
     if (distorted) uploadIdealLookup(view);
     // The naive binding walks every selected image (it is the baseline without culling).
-    cullingThisFrame = settings.tileCulling && !naive() && !params.empty();
+    // Tile lists come from the geometry's depth: pixels on the background sphere have none.
+    cullingThisFrame = settings.tileCulling && !naive() && !params.empty() && sphereRadius() <= 0.0;
     if (cullingThisFrame) buildTileLists(view, vf, depthSz);
 
     // Shading pass into the colour target.
@@ -679,6 +680,13 @@ struct Renderer::Impl {
     glActiveTexture(GL_TEXTURE0);
   }
 
+  // The background sphere's radius this frame; 0 when there is none (RenderSettings::backgroundSphere).
+  double sphereRadius() const {
+    if (settings.backgroundSphere > 0.0) return settings.backgroundSphere;
+    if (settings.backgroundSphere < 0.0 && geometryBounds.empty()) return kDefaultSphereRadius;
+    return 0.0;
+  }
+
   void bindShadeInputs(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted,
                        const ibr::BlendSettings& blend) {
     const gpu::Program& p = shadeProgram;
@@ -736,6 +744,7 @@ struct Renderer::Impl {
     glUniform2i(p.uniform("u_viewDepthSize"), depthSz.x, depthSz.y);
     glUniform1f(p.uniform("u_viewNear"), float(vf.near));
     glUniform1f(p.uniform("u_viewFar"), float(vf.far));
+    glUniform1f(p.uniform("u_sphereRadius"), float(sphereRadius()));
     const glm::dvec3 c = view.center - scene.origin;
     glUniform3f(p.uniform("u_viewCenter"), float(c.x), float(c.y), float(c.z));
     uploadMat3(p.uniform("u_viewDirFromPix"), glm::transpose(view.camFromWorld) * view.camFromPix());

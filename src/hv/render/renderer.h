@@ -26,11 +26,17 @@ enum class Binding {
           // units the pass needs for itself) are blended
 };
 
+inline constexpr double kDefaultSphereRadius = 100.0;
+
 struct RenderSettings {
   Binding binding = Binding::Array;
   ibr::BlendSettings blend;
   int depthSize = 1024;               // depth-map resolution (square)
   glm::dvec3 background{0.0};         // [0, 1] RGB where no image contributes
+  // Pixels that see no geometry are projected onto a sphere of this radius (scene units) around the
+  // view, as iTowns' backgroundDistance: > 0 always, 0 never, < 0 only in a scene without geometry
+  // (a panorama collection), with radius kDefaultSphereRadius.
+  double backgroundSphere = -1.0;
   double depthBiasAbsolute = -1.0;    // scene units; < 0: derived from the scene's extent
   double depthBiasTexels = 1.5;       // plus this many depth-map texel footprints, slope-scaled (ibr::shadowBias)
   int maxSliceSize = 2048;            // largest slice side; bigger photographs are scaled down
