@@ -5,6 +5,7 @@
 #include "hv/app/fly_command.h"
 #include "hv/app/render_command.h"
 #include "hv/app/view_command.h"
+#include "hv/app/web_export_command.h"
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +22,7 @@ void registerCommands(CLI::App& app) {
   addFlyCommand(app, g_exit);
   addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
+  addWebExportCommand(app, g_exit);
 }
 
 int exitCode() { return g_exit; }

@@ -1,4 +1,4 @@
-// The subcommands of the histoview executable (render, eval, info, fly, view, demo).
+// The subcommands of the histoview executable (render, eval, info, fly, view, demo, web-export).
 #pragma once
 
 namespace CLI {

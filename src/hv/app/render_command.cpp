@@ -5,6 +5,7 @@
 #include "hv/image/colormap.h"
 #include "hv/io/scene_loader.h"
 #include "hv/util/log.h"
+#include "hv/image/png_write.h"
 
 #include <CLI/CLI.hpp>
 

@@ -10,6 +10,7 @@
 #include "hv/demo/demo_city.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/raster.h"
+#include "hv/image/png_write.h"
 
 namespace hv::demo {
 
