@@ -6,6 +6,7 @@
 #include "hv/app/fly_command.h"
 #include "hv/app/render_command.h"
 #include "hv/app/view_command.h"
+#include "hv/app/web_export_command.h"
 
 #include <CLI/CLI.hpp>
 
@@ -23,6 +24,7 @@ void registerCommands(CLI::App& app) {
   addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
   addCamerasCommand(app, g_exit);
+  addWebExportCommand(app, g_exit);
 }
 
 int exitCode() { return g_exit; }

@@ -12,6 +12,7 @@
 #include "hv/io/scene_loader.h"
 
 #include "hv/app/common.h"
+#include "hv/image/png_write.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -4,6 +4,7 @@
 #include "hv/camera/camera_path.h"
 #include "hv/io/camera_path_json.h"
 #include "hv/image/image.h"
+#include "hv/image/png_write.h"
 
 #include <CLI/CLI.hpp>
 

@@ -6,6 +6,7 @@
 #include "hv/io/georef.h"
 #include "hv/io/scene_loader.h"
 #include "hv/util/log.h"
+#include "hv/image/png_write.h"
 
 #include <CLI/CLI.hpp>
 

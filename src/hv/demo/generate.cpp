@@ -13,6 +13,7 @@
 #include "hv/io/las_writer.h"
 #include "hv/io/ply_points.h"
 #include "hv/io/raster.h"
+#include "hv/image/png_write.h"
 
 namespace hv::demo {
 

@@ -42,9 +42,7 @@ Image16 readPng16(const std::string& path);
 Image8 rgbOf(const Image8& rgba);
 Image8 alphaMask(const Image8& rgba);
 
-// PNG writers (libpng). Throw std::runtime_error naming the file on failure.
-void writePng(const std::string& path, const Image8& image);
-void writePng16(const std::string& path, const Image16& image);
+// JPEG writer (stb_image_write). The PNG writers (libpng, native only) are in hv/image/png_write.h.
 void writeJpeg(const std::string& path, const Image8& image, int quality = 92);
 
 // Resize for scaling photographs into texture slices (stb_image_resize: filtered, so shrinking by a

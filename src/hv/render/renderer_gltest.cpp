@@ -7,6 +7,7 @@
 #include "hv/ibr/slice_image.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/scene/raycast.h"
+#include "hv/image/png_write.h"
 
 #include <gtest/gtest.h>
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "hv/scene/mesh.h"
+#include "hv/scene/ray_query.h"
 
 #include <glm/glm.hpp>
 
@@ -13,15 +14,7 @@
 
 namespace hv {
 
-struct RayHit {
-  double t = 0.0;                   // distance along the (normalised) direction
-  glm::dvec3 position{0.0};         // world
-  glm::dvec3 normal{0.0};           // geometric normal of the triangle, unit, as oriented in the mesh
-  std::uint32_t triangle = 0;       // index into Mesh::triangles
-  glm::dvec2 barycentric{0.0};      // Embree's (u, v)
-};
-
-class RayCaster {
+class RayCaster final : public RayQuery {
  public:
   explicit RayCaster(const Mesh& mesh);
   ~RayCaster();
@@ -30,9 +23,9 @@ class RayCaster {
 
   // First hit along origin + t * normalize(direction), t in [tMin, tMax].
   std::optional<RayHit> intersect(const glm::dvec3& origin, const glm::dvec3& direction, double tMin = 0.0,
-                                  double tMax = 1e30) const;
+                                  double tMax = 1e30) const override;
   // True when anything lies on the segment (tMin, tMax) of the ray.
-  bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double tMin, double tMax) const;
+  bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double tMin, double tMax) const override;
 
  private:
   struct Impl;

@@ -1,7 +1,7 @@
 #include "hv/viewer/navigation.h"
 
 #include "hv/camera/camera_path.h"
-#include "hv/scene/raycast.h"
+#include "hv/scene/ray_query.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +40,7 @@ glm::dmat3 camFromWorldLooking(const glm::dvec3& forward, const glm::dvec3& up) 
 
 glm::dvec3 forwardOf(const Camera& c) { return glm::transpose(c.camFromWorld) * glm::dvec3(0, 0, 1); }
 
-Navigator::Navigator(const glm::dvec3& up, const RayCaster* geometry, NavigationSettings s)
+Navigator::Navigator(const glm::dvec3& up, const RayQuery* geometry, NavigationSettings s)
     : frame_(upFrame(up)), geometry_(geometry), settings_(s) {}
 
 void Navigator::setCamera(const Camera& camera) {
@@ -146,7 +146,7 @@ Camera blendCameras(const Camera& a, const Camera& b, double s) {
 }
 
 FocusContextPath::FocusContextPath(const Camera& from, const Camera& photo, const FocusContextSettings& s,
-                                   const RayCaster* geometry)
+                                   const RayQuery* geometry)
     : from_(from), s_(s) {
   from_.distortion.reset();
   focus_ = photoInWindow(photo, from.width, from.height);

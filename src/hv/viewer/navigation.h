@@ -15,7 +15,7 @@
 #include <vector>
 
 namespace hv {
-class RayCaster;
+class RayQuery;  // hv/scene/ray_query.h
 }
 
 namespace hv::viewer {
@@ -70,7 +70,7 @@ class Navigator {
  public:
   // `geometry` (may be null: walking then keeps its height and nothing blocks) is what walking
   // stands on and bumps into; it must outlive the navigator.
-  explicit Navigator(const glm::dvec3& up, const RayCaster* geometry = nullptr, NavigationSettings s = {});
+  explicit Navigator(const glm::dvec3& up, const RayQuery* geometry = nullptr, NavigationSettings s = {});
 
   void setCamera(const Camera& camera);
   const Camera& camera() const { return camera_; }
@@ -94,7 +94,7 @@ class Navigator {
   glm::dvec3 walkStep(const glm::dvec3& from, const glm::dvec3& step) const;
 
   UpFrame frame_;
-  const RayCaster* geometry_;
+  const RayQuery* geometry_;
   NavigationSettings settings_;
   Camera camera_;
   Heading heading_;
@@ -126,7 +126,7 @@ class FocusContextPath {
   // `from` and `photo` may differ in size: the path runs at `from`'s size (the window).
   // `geometry` (may be null) shortens the step back so the camera stays in front of walls.
   FocusContextPath(const Camera& from, const Camera& photo, const FocusContextSettings& s,
-                   const RayCaster* geometry = nullptr);
+                   const RayQuery* geometry = nullptr);
   Camera at(double t) const;
   double duration() const;
   const Camera& focus() const { return focus_; }

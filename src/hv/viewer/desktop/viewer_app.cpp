@@ -11,6 +11,7 @@
 #include "hv/scene/raycast.h"
 #include "hv/viewer/desktop/glfw_window.h"
 #include "hv/viewer/navigation.h"
+#include "hv/image/png_write.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>

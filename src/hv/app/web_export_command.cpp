@@ -1,0 +1,131 @@
+#include "hv/app/web_export_command.h"
+
+#include "hv/app/common.h"
+#include "hv/image/image.h"
+#include "hv/io/cameras_json.h"
+#include "hv/io/scene_loader.h"
+#include "hv/io/web_scene.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#ifndef HV_SOURCE_DIR
+#define HV_SOURCE_DIR ""
+#endif
+
+namespace hv::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The first bytes of a file: JPEGs are copied as they are, anything else is re-encoded.
+bool isJpegFile(const fs::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  unsigned char b[3] = {0, 0, 0};
+  f.read(reinterpret_cast<char*>(b), 3);
+  return f && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff;
+}
+
+std::string indexName(size_t i) {
+  std::ostringstream s;
+  s << std::setw(4) << std::setfill('0') << i;
+  return s.str();
+}
+
+// Copies the page's files (those present) from `from` into `to`; returns how many.
+int copyPageFiles(const fs::path& from, const fs::path& to, const std::vector<std::string>& names) {
+  int n = 0;
+  for (const auto& name : names) {
+    if (!fs::exists(from / name)) continue;
+    fs::copy_file(from / name, to / name, fs::copy_options::overwrite_existing);
+    ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+int runWebExport(const WebExportOptions& o) {
+  Diagnostics diag;
+  const Scene scene = loadScene(o.scenePath, diag);
+  const fs::path out(o.out);
+  fs::create_directories(out / "images");
+  std::vector<Photo> photos;
+  bool anyMask = false;
+  for (size_t i = 0; i < scene.photos.size(); ++i) {
+    Photo p = scene.photos[i];
+    try {
+      const fs::path image = out / "images" / (indexName(i) + ".jpg");
+      if (isJpegFile(p.imagePath)) {
+        fs::copy_file(p.imagePath, image, fs::copy_options::overwrite_existing);
+      } else {
+        Image8 decoded = readImage(p.imagePath);
+        if (decoded.channels == 4) decoded = rgbOf(decoded);
+        if (decoded.channels == 2) decoded = readImage(p.imagePath, 3);
+        writeJpeg(image.string(), decoded, o.jpegQuality);
+      }
+      p.imagePath = image.string();
+      if (!p.maskPath.empty()) {
+        // Masks stay lossless: copied as they are (PNG, or JPEG when given so).
+        if (!anyMask) fs::create_directories(out / "masks");
+        anyMask = true;
+        const fs::path mask = out / "masks" / (indexName(i) + fs::path(p.maskPath).extension().string());
+        fs::copy_file(p.maskPath, mask, fs::copy_options::overwrite_existing);
+        p.maskPath = mask.string();
+      }
+      photos.push_back(std::move(p));
+    } catch (const std::exception& e) {
+      diag.error("camera '" + p.camera.id + "': " + e.what() + " (left out of the export)");
+    }
+  }
+  writeWebScene(scene, photos, out.string());
+  if (!o.viewsPath.empty()) {
+    CameraFileOptions viewOpts;
+    viewOpts.requireImages = false;
+    viewOpts.checkImageFiles = false;
+    std::vector<Photo> views = readCameraFile(o.viewsPath, viewOpts, diag);
+    for (auto& v : views) v.imagePath.clear(), v.maskPath.clear();
+    std::ofstream(out / "views.json") << cameraJson(views, out.string());
+  }
+
+  const fs::path source(HV_SOURCE_DIR);
+  const fs::path pageDir = o.pageDir.empty() ? source / "web" : fs::path(o.pageDir);
+  const fs::path wasmDir = o.wasmDir.empty() ? source / "build-web" / "dist" : fs::path(o.wasmDir);
+  const int page = copyPageFiles(pageDir, out, {"index.html", "histoview.js", "histoview.css"});
+  const int wasm = copyPageFiles(wasmDir, out, {"histoview_web.js", "histoview_web.wasm"});
+
+  size_t triangles = scene.terrain.triangles.size() + scene.buildings.triangles.size() + scene.mesh.triangles.size();
+  std::cout << "web export in " << out.string() << ": " << triangles << " triangles, " << photos.size()
+            << " photographs" << (anyMask ? " with masks" : "") << "\n";
+  if (page == 0) std::cout << "note: no page copied (no index.html in " << pageDir.string() << ")\n";
+  if (wasm < 2)
+    std::cout << "note: the WebAssembly build is missing (" << wasmDir.string()
+              << "): build it with tools/web-build.sh, then export again\n";
+  for (const auto& w : diag.warnings) std::cerr << "warning: " << w << "\n";
+  for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
+  return diag.ok() ? 0 : 1;
+}
+
+void addWebExportCommand(CLI::App& app, int& exitCode) {
+  auto* cmd = app.add_subcommand(
+      "web-export", "write a static folder for the browser: triangulated meshes, cameras, JPEG photographs, the page");
+  auto o = std::make_shared<WebExportOptions>();
+  cmd->add_option("scene", o->scenePath, "scene.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("out", o->out, "output directory (created)")->required();
+  cmd->add_option("--views", o->viewsPath, "view cameras to export as views.json (the page's ?camera= names them)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--page", o->pageDir, "the page's sources (default: the source tree's web/)");
+  cmd->add_option("--wasm", o->wasmDir, "the Emscripten build's output (default: the source tree's build-web/dist)");
+  cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality for photographs that are not JPEG (default 90)")
+      ->check(CLI::Range(1, 100));
+  setAction(*cmd, exitCode, [o] { return runWebExport(*o); });
+}
+
+}  // namespace hv::app

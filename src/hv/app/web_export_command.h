@@ -1,0 +1,27 @@
+// `histoview web-export SCENE OUT/`: the scene as a self-contained static folder for the browser
+// build (hv/io/web_scene.h, docs/web.md): triangulated meshes, cameras.json, the photographs as
+// JPEG, masks, and the page (web/) with the WebAssembly build when it exists.
+#pragma once
+
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace hv::app {
+
+void addWebExportCommand(CLI::App& app, int& exitCode);
+
+struct WebExportOptions {
+  std::string scenePath;
+  std::string out;
+  std::string viewsPath;  // optional: copied as views.json (the page's ?camera= may name them)
+  std::string pageDir;    // the page's sources (index.html, histoview.js); default: the source tree's web/
+  std::string wasmDir;    // the Emscripten build's output; default: the source tree's build-web/dist
+  int jpegQuality = 90;   // for photographs that are not JPEG already
+};
+// Returns the exit code (0: written; 1: written with errors reported).
+int runWebExport(const WebExportOptions& o);
+
+}  // namespace hv::app

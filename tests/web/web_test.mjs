@@ -1,0 +1,107 @@
+// Headless Chromium end-to-end test of the web page (run by tests/web_test.sh, which serves an
+// export of the demo city with a native `histoview render` of the same view as reference.png).
+//   node tests/web/web_test.mjs URL OUTDIR [--measure N]
+// Loads URL (…/?camera=ID&w=&h=&k=), waits until the page reports loading complete (every
+// photograph fetched, the frame converged), checks there were no page errors, compares the
+// canvas with reference.png (PSNR over RGB), moves the camera and checks the picture changes.
+// Writes web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the whole page. Prints "N passed, M failed"; exit code 1 on failure.
+import { chromium } from 'playwright-core';
+import fs from 'node:fs';
+import path from 'node:path';
+
+const [url, outDir, ...rest] = process.argv.slice(2);
+const measure = rest[0] === '--measure' ? parseInt(rest[1], 10) : 0;
+// WebGL2 on the CPU: SwiftShader through ANGLE (docs/web.md, PLATFORM notes).
+const flags = ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+  '--ignore-gpu-blocklist', '--disable-quic', '--no-first-run', '--disable-background-networking',
+  '--disable-component-update', '--disable-sync'];
+// The bound: the page runs the same renderer and shaders on the same camera, but the photographs
+// went through JPEG (the export re-encodes the demo's PNGs at quality 90) and SwiftShader's float
+// arithmetic and texture filtering differ from llvmpipe's in the last bits: 44 dB measured on the
+// test city (320x240, K = 8). 35 dB (RMS error ~4.5 grey levels) leaves room for that and still
+// fails a wrong camera, a missing photograph or depth map, or an upside-down picture (< 25 dB).
+const MIN_PSNR = 35.0;
+
+let passed = 0, failed = 0;
+const check = (ok, what) => { if (ok) { passed++; console.log('ok    ' + what); } else { failed++; console.log('FAIL  ' + what); } };
+
+// Playwright gives the browser a fresh temporary profile itself (it refuses --user-data-dir).
+const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: flags });
+try {
+  const page = await browser.newPage({ viewport: { width: 1000, height: 560 } });
+  const pageErrors = [];
+  page.on('pageerror', (e) => pageErrors.push(String(e)));
+  page.on('console', (m) => { if (m.type() === 'error') pageErrors.push(m.text()); if (process.env.HV_WEB_VERBOSE) console.log('console: ' + m.text()); });
+  const t0 = Date.now();
+  await page.goto(url);
+  await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.length > 0), null, { timeout: 240000, polling: 250 });
+  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, status: hv.status }));
+  console.log(`loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s: ${JSON.stringify(state.status)}`);
+  check(state.loaded, 'the page reports loading complete');
+  check(state.errors.length === 0 && pageErrors.length === 0, 'no page errors' +
+        (state.errors.length + pageErrors.length ? ': ' + [...state.errors, ...pageErrors].join(' | ') : ''));
+
+  // The canvas and the reference, compared in the page (a 2D canvas reads both).
+  const cmp = await page.evaluate(async () => {
+    const canvas = document.getElementById('view');
+    const grab = (src) => {
+      const c = document.createElement('canvas');
+      c.width = src.width; c.height = src.height;
+      const g = c.getContext('2d');
+      g.drawImage(src, 0, 0);
+      return g.getImageData(0, 0, c.width, c.height).data;
+    };
+    const ref = new Image();
+    ref.src = 'reference.png';
+    await ref.decode();
+    const a = grab(canvas), b = grab(ref);
+    if (ref.width !== canvas.width || ref.height !== canvas.height)
+      return { error: `reference ${ref.width}x${ref.height}, canvas ${canvas.width}x${canvas.height}` };
+    let se = 0, n = 0;
+    for (let i = 0; i < a.length; i += 4) for (let c = 0; c < 3; ++c) { const d = a[i + c] - b[i + c]; se += d * d; n++; }
+    const mse = se / n;
+    return { psnr: mse === 0 ? Infinity : 10 * Math.log10(255 * 255 / mse), png: canvas.toDataURL('image/png') };
+  });
+  if (cmp.png) fs.writeFileSync(path.join(outDir, 'web.png'), Buffer.from(cmp.png.split(',')[1], 'base64'));
+  console.log(cmp.error ? cmp.error : `web vs native render: PSNR ${cmp.psnr.toFixed(2)} dB (bound ${MIN_PSNR} dB)`);
+  check(!cmp.error && cmp.psnr >= MIN_PSNR, 'the canvas is the native render of the same camera');
+
+  if (process.env.HV_WEB_SCREENSHOT) await page.screenshot({ path: process.env.HV_WEB_SCREENSHOT });
+
+  if (measure > 0) {
+    const ms = await page.evaluate((n) => hv.measure(n), measure);
+    console.log(`frame time (median of ${measure}, converged, forced redraw): ${ms.toFixed(1)} ms`);
+  }
+
+  // Move forward and turn a little: the picture must change, and converge again without errors.
+  const before = await page.evaluate(() => document.getElementById('view').toDataURL('image/png'));
+  await page.evaluate(() => hv.move(0, 1, 0, 40, 0, 0.5));
+  await page.waitForFunction(() => hv.status && hv.status.converged && !hv.status.focusing, null, { timeout: 60000, polling: 250 });
+  await page.waitForTimeout(300);
+  const diff = await page.evaluate(async (beforeUrl) => {
+    const img = new Image();
+    img.src = beforeUrl;
+    await img.decode();
+    const grab = (src) => {
+      const c = document.createElement('canvas');
+      c.width = src.width; c.height = src.height;
+      const g = c.getContext('2d');
+      g.drawImage(src, 0, 0);
+      return g.getImageData(0, 0, c.width, c.height).data;
+    };
+    const a = grab(document.getElementById('view')), b = grab(img);
+    let changed = 0;
+    for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24) changed++;
+    return changed / (a.length / 4);
+  }, before);
+  console.log(`after moving: ${(100 * diff).toFixed(1)} % of the pixels changed`);
+  check(diff > 0.2, 'moving the camera changes the picture');
+  const after = await page.evaluate(() => hv.errors);
+  check(after.length === 0 && pageErrors.length === 0, 'no page errors after moving');
+} catch (e) {
+  check(false, 'the test ran: ' + e.message);
+} finally {
+  await browser.close();
+}
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# End-to-end test of the browser build in headless Chromium (ctest: `web`, label "web").
+#
+#   tests/web_test.sh path/to/histoview [scratch-dir]
+#
+# Builds the WebAssembly version when missing (tools/web-build.sh), installs playwright-core into
+# tests/web/node_modules when missing (npm; it never downloads a browser), generates a small demo
+# city, exports it (histoview web-export), renders a held-out view natively as the reference,
+# serves the export on localhost and runs tests/web/web_test.mjs against it: loading completes,
+# no page errors, the canvas matches the native render, moving changes the picture.
+# Exits 77 (skipped) when emcc, chromium, node or npm (or the npm package) are not available.
+# For measurements: HV_WEB_SIZE=W (canvas width, default 320), HV_WEB_MEASURE=N (the median frame
+# time of N frames), HV_WEB_SCREENSHOT=FILE (the whole page).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+HV=${1:?usage: web_test.sh path/to/histoview [scratch-dir]}
+HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
+DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-web-test.XXXXXX")}
+export HV_LOG=${HV_LOG:-error}
+
+for tool in emcc chromium node npm python3; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "SKIPPED: $tool not found (Debian: emscripten chromium nodejs npm; see docs/web.md)"
+    exit 77
+  fi
+done
+# In the main suite (ctest) the browser build is only tested once it exists: building it and
+# installing playwright-core is the job of `bash tools/web-test.sh` (HV_WEB_PREPARE=1).
+if [[ "${HV_WEB_PREPARE:-0}" != 1 ]] &&
+   [[ ! -f build-web/dist/histoview_web.wasm || ! -d tests/web/node_modules/playwright-core ]]; then
+  echo "SKIPPED: the browser build or playwright-core is not prepared (run: bash tools/web-test.sh)"
+  exit 77
+fi
+if [[ ! -d tests/web/node_modules/playwright-core ]]; then
+  (cd tests/web && npm install --no-audit --no-fund --loglevel=error) ||
+    { echo "SKIPPED: npm could not install playwright-core into tests/web/node_modules"; exit 77; }
+fi
+if [[ ! -f build-web/dist/histoview_web.wasm ]]; then
+  bash tools/web-build.sh >"${TMPDIR:-/tmp}/hv-web-build.log" 2>&1 ||
+    { echo "FAIL: tools/web-build.sh"; tail -30 "${TMPDIR:-/tmp}/hv-web-build.log"; exit 1; }
+fi
+
+rm -rf "$DIR"
+mkdir -p "$DIR"
+"$HV" demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3 >"$DIR/demo.out" 2>&1 ||
+  { echo "FAIL: demo generation"; cat "$DIR/demo.out"; exit 1; }
+city=$DIR/city
+"$HV" web-export "$city/scene.json" "$DIR/web" --views "$city/views.json" >"$DIR/export.out" 2>&1 ||
+  { echo "FAIL: web-export"; cat "$DIR/export.out"; exit 1; }
+cat "$DIR/export.out"
+[[ -f $DIR/web/histoview_web.wasm && -f $DIR/web/index.html ]] ||
+  { echo "FAIL: the export has no page or no WebAssembly"; exit 1; }
+
+# The held-out view at the test size (its aspect ratio), and the native reference render.
+read -r id w h < <(python3 -c '
+import json, sys
+c = json.load(open(sys.argv[1]))["cameras"][0]
+w = int(sys.argv[2].split("x")[0]) if sys.argv[2] else 320
+print(c["id"], w, round(w * c["height"] / c["width"]))' "$city/views.json" "${HV_WEB_SIZE:-}")
+"$HV" render "$city/scene.json" --views "$city/views.json" --size "${w}x${h}" --k 8 --out "$DIR/render" \
+  >"$DIR/render.out" 2>&1 || { echo "FAIL: histoview render"; cat "$DIR/render.out"; exit 1; }
+cp "$DIR/render/$id.png" "$DIR/web/reference.png"
+
+# A static server on a free port.
+port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+python3 -m http.server "$port" --bind 127.0.0.1 --directory "$DIR/web" >"$DIR/server.log" 2>&1 &
+server=$!
+trap 'kill $server 2>/dev/null' EXIT
+for _ in $(seq 50); do
+  python3 -c "import urllib.request; urllib.request.urlopen('http://127.0.0.1:$port/index.html')" 2>/dev/null && break
+  sleep 0.2
+done
+
+measure=()
+[[ -n ${HV_WEB_MEASURE:-} ]] && measure=(--measure "$HV_WEB_MEASURE")
+node tests/web/web_test.mjs "http://127.0.0.1:$port/?camera=$id&w=$w&h=$h&k=8" "$DIR" "${measure[@]}"

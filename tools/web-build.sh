@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Builds the browser version (docs/web.md): the portable core + web/hv_web.cpp with Debian's
+# Emscripten into build-web/dist/histoview_web.{js,wasm}. Installs emscripten (apt) when missing.
+#   bash tools/web-build.sh [extra cmake arguments]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+packages=(emscripten libglm-dev nlohmann-json3-dev libnanoflann-dev libeigen3-dev libstb-dev cmake ninja-build)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  sudo_=""
+  if [[ $(id -u) -ne 0 ]]; then sudo_="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo_ apt-get update -qq
+  $sudo_ apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+# Debian's emcc needs its node modules (acorn) from the system path.
+export NODE_PATH=${NODE_PATH:-/usr/share/nodejs}
+mkdir -p build-web
+if [[ ! -f build-web/CMakeCache.txt ]]; then
+  emcmake cmake -S . -B build-web -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
+fi
+cmake --build build-web -j"${HV_JOBS:-2}" -- -k 0
+ls -l build-web/dist/histoview_web.js build-web/dist/histoview_web.wasm

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The browser build's end-to-end test in headless Chromium (docs/web.md): installs Emscripten and
+# Chromium (apt) and playwright-core (npm) when missing, builds the WebAssembly version and the
+# native one, and runs tests/web_test.sh. Kept out of the main suite (tools/test.sh) because the
+# WebAssembly build alone takes minutes on two cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/install-deps.sh
+for pkg in emscripten chromium nodejs npm; do
+  dpkg -s "$pkg" >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq --no-install-recommends "$pkg"; }
+done
+bash tools/build.sh -DHV_BUILD_BENCH=OFF
+bash tools/web-build.sh
+HV_WEB_PREPARE=1 bash tests/web_test.sh build/histoview

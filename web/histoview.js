@@ -1,0 +1,203 @@
+// The page (docs/web.md): fetches the export made by `histoview web-export` over HTTP, writes what
+// arrives into the WebAssembly module's in-memory file system, and drives hv::render::Renderer
+// (web/hv_web.cpp) from requestAnimationFrame. No framework. URL parameters:
+//   camera=ID  start at this view (views.json) or photograph; default: an overview
+//   w=, h=     canvas size (default 960x540); k=, depth= (depth-map size, default 1024)
+// For scripts and tests, window.hv exposes the state (loaded, progress, errors) and a few calls.
+'use strict';
+
+(() => {
+  const params = new URLSearchParams(location.search);
+  const intParam = (name, def) => { const v = parseInt(params.get(name), 10); return Number.isFinite(v) && v > 0 ? v : def; };
+  const W = intParam('w', 960), H = intParam('h', 540);
+  const K = intParam('k', 8), DEPTH = intParam('depth', 1024);
+  const ROOT = '/scene/';
+  const FETCHES_IN_FLIGHT = 4;
+
+  const $ = (id) => document.getElementById(id);
+  const canvas = $('view');
+  canvas.width = W;
+  canvas.height = H;
+  $('k').value = K;
+
+  const hv = window.hv = { loaded: false, progress: 0, errors: [], status: null, viewer: null };
+
+  function showError(message) {
+    const text = String(message);
+    hv.errors.push(text);
+    const box = $('errors');
+    box.hidden = false;
+    box.textContent += (box.textContent ? '\n' : '') + text;
+    console.error('histoview: ' + text);
+  }
+  window.addEventListener('error', (e) => showError(e.message || e.error));
+  window.addEventListener('unhandledrejection', (e) => showError(e.reason && e.reason.message ? e.reason.message : e.reason));
+
+  function setProgress(value, text) {
+    hv.progress = value;
+    $('progress').value = value;
+    $('progress-text').textContent = text;
+  }
+
+  function mkdirs(FS, path) {
+    const parts = path.split('/').slice(1, -1);
+    let dir = '';
+    for (const p of parts) {
+      dir += '/' + p;
+      try { FS.mkdir(dir); } catch (e) { /* exists */ }
+    }
+  }
+
+  async function fetchBytes(url) {
+    const r = await fetch(url);
+    if (!r.ok) throw new Error(url + ': HTTP ' + r.status);
+    return new Uint8Array(await r.arrayBuffer());
+  }
+
+  async function main() {
+    if (typeof createHistoview !== 'function')
+      throw new Error('histoview_web.js is missing: build it with tools/web-build.sh and export again');
+    setProgress(0, 'starting WebAssembly…');
+    const Module = await createHistoview({
+      print: (t) => console.log(t),
+      printErr: (t) => { console.warn(t); if (/^error/i.test(t)) showError(t); },
+    });
+    const FS = Module.FS;
+    const put = (rel, bytes) => { mkdirs(FS, ROOT + rel); FS.writeFile(ROOT + rel, bytes); };
+
+    // The scene: manifest, meshes, cameras (and the optional views).
+    setProgress(0, 'loading the scene…');
+    const manifestBytes = await fetchBytes('scene_web.json');
+    put('scene_web.json', manifestBytes);
+    const manifest = JSON.parse(new TextDecoder().decode(manifestBytes));
+    const sceneFiles = manifest.meshes.map((m) => m.path).concat([manifest.cameras || 'cameras.json']);
+    await Promise.all(sceneFiles.map(async (f) => put(f, await fetchBytes(f))));
+    let haveViews = false;
+    try { put('views.json', await fetchBytes('views.json')); haveViews = true; } catch (e) { /* optional */ }
+
+    const viewer = hv.viewer = new Module.WebViewer('#view');
+    if (viewer.error()) throw new Error(viewer.error());
+    const loadErrors = viewer.load(ROOT + 'scene_web.json', K, DEPTH);
+    if (loadErrors) loadErrors.trim().split('\n').forEach(showError);
+    console.log('histoview: ' + viewer.glInfo());
+
+    const camera = params.get('camera');
+    if (camera) {
+      const err = viewer.setViewFromFile(haveViews ? ROOT + 'views.json' : ROOT + 'cameras.json', camera, W, H);
+      if (err) { showError('camera=' + camera + ': ' + err); viewer.overview(W, H); }
+    } else {
+      viewer.overview(W, H);
+    }
+    $('speed').value = viewer.speed().toFixed(1);
+
+    const photos = JSON.parse(viewer.photos());
+    buildPhotoList(viewer, photos);
+
+    // Photographs, nearest the start view first, a few requests in flight; each joins the
+    // renderer's selection as soon as its bytes (and its mask's) are in the file system.
+    const order = JSON.parse(viewer.fetchOrder());
+    let next = 0, done = 0;
+    const rel = (p) => p.startsWith(ROOT) ? p.slice(ROOT.length) : p;
+    async function worker() {
+      while (next < order.length) {
+        const i = order[next++];
+        const p = photos[i];
+        try {
+          put(rel(p.image), await fetchBytes(rel(p.image)));
+          if (p.mask) put(rel(p.mask), await fetchBytes(rel(p.mask)));
+          viewer.photoArrived(i);
+          const li = document.querySelector('#photos li[data-index="' + i + '"]');
+          if (li) li.classList.remove('pending');
+        } catch (e) {
+          showError('photograph ' + p.id + ': ' + e.message);
+        }
+        done++;
+      }
+    }
+    Promise.all(Array.from({ length: FETCHES_IN_FLIGHT }, worker)).then(() => { hv.fetched = true; });
+
+    // The frame loop: input, then a progressive frame when something changed.
+    const keys = new Set();
+    let drag = null, look = [0, 0], last = performance.now(), lastErrors = 0;
+    canvas.addEventListener('keydown', (e) => {
+      keys.add(e.code);
+      if (e.code === 'KeyN' || e.code === 'PageDown') viewer.stepPhoto(1);
+      if (e.code === 'KeyP' || e.code === 'PageUp') viewer.stepPhoto(-1);
+      if (e.code.startsWith('Arrow') || e.code === 'Space' || e.code.startsWith('Page')) e.preventDefault();
+    });
+    canvas.addEventListener('keyup', (e) => keys.delete(e.code));
+    canvas.addEventListener('blur', () => keys.clear());
+    canvas.addEventListener('mousedown', (e) => { drag = [e.clientX, e.clientY]; canvas.focus(); });
+    window.addEventListener('mouseup', () => { drag = null; });
+    window.addEventListener('mousemove', (e) => {
+      if (!drag) return;
+      look[0] += e.clientX - drag[0];
+      look[1] += e.clientY - drag[1];
+      drag = [e.clientX, e.clientY];
+    });
+    canvas.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      viewer.setSpeed(Math.min(1e4, Math.max(0.05, viewer.speed() * Math.pow(1.25, e.deltaY < 0 ? 1 : -1))));
+      $('speed').value = viewer.speed().toFixed(1);
+    }, { passive: false });
+    $('k').addEventListener('change', (e) => viewer.setK(parseInt(e.target.value, 10) || 1));
+    $('occlusion').addEventListener('change', (e) => viewer.setOcclusion(e.target.checked));
+    $('dmax').addEventListener('change', (e) => viewer.setDepthMapsPerFrame(parseInt(e.target.value, 10) || 1));
+    $('speed').addEventListener('change', (e) => viewer.setSpeed(parseFloat(e.target.value) || 1));
+
+    const down = (...codes) => codes.some((c) => keys.has(c)) ? 1 : 0;
+    function tick(now) {
+      const dt = Math.min(0.1, (now - last) / 1000);
+      last = now;
+      viewer.move(down('KeyD', 'ArrowRight') - down('KeyA', 'ArrowLeft'), down('KeyW', 'ArrowUp') - down('KeyS', 'ArrowDown'),
+                  down('KeyE') - down('KeyQ'), look[0], look[1], keys.has('ShiftLeft') || keys.has('ShiftRight'), dt);
+      look = [0, 0];
+      viewer.frame(W, H, false, false);
+      const s = hv.status = JSON.parse(viewer.status());
+      for (; lastErrors < s.errors.length; ++lastErrors) showError(s.errors[lastErrors]);
+      const fetched = done / Math.max(1, order.length);
+      const complete = done === order.length && s.converged;
+      setProgress(complete ? 1 : 0.95 * fetched, complete ? 'loaded' :
+                  `photographs ${s.arrived}/${s.photos}, ${s.imagesLoaded || 0} decoded`);
+      $('loading').hidden = complete;
+      if (complete && !hv.loaded) { hv.loaded = true; console.log('histoview: loading complete'); }
+      $('status').textContent = `frame ${s.lastFrameMs.toFixed(1)} ms\nimages ${s.selected || 0} selected, ` +
+        `${s.waiting || 0} waiting\ndepth maps ${s.depthMaps || 0}\n${s.converged ? 'converged' : 'refining…'}`;
+      const f = viewer.focused();
+      document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('focused', +li.dataset.index === f));
+      requestAnimationFrame(tick);
+    }
+    requestAnimationFrame(tick);
+
+    // For scripts and tests.
+    hv.move = (right, forward, up, lookX, lookY, dt) => viewer.move(right, forward, up, lookX, lookY, false, dt);
+    hv.focus = (i) => viewer.focusPhoto(i);
+    // Median time of n frames rendered back to back at the current view (waiting for the GPU).
+    hv.measure = (n) => {
+      const t = [];
+      for (let i = 0; i < n; ++i) { viewer.frame(W, H, true, true); t.push(JSON.parse(viewer.status()).lastFrameMs); }
+      t.sort((a, b) => a - b);
+      return t[Math.floor(t.length / 2)];
+    };
+    canvas.focus();
+  }
+
+  function buildPhotoList(viewer, photos) {
+    const list = $('photos');
+    photos.forEach((p, i) => {
+      const li = document.createElement('li');
+      li.dataset.index = i;
+      li.className = 'pending';
+      li.textContent = p.id + (p.date ? ' — ' + p.date : '');
+      li.title = 'go to this photograph, then step back into its surroundings';
+      li.addEventListener('click', () => { viewer.focusPhoto(i); canvas.focus(); });
+      list.appendChild(li);
+    });
+    $('search').addEventListener('input', (e) => {
+      const q = e.target.value.toLowerCase();
+      list.querySelectorAll('li').forEach((li) => { li.hidden = q && !li.textContent.toLowerCase().includes(q); });
+    });
+  }
+
+  main().catch((e) => showError(e && e.message ? e.message : e));
+})();

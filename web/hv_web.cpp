@@ -1,0 +1,327 @@
+// The browser entry (docs/web.md): a WebGL2 context on the page's canvas and the same
+// hv::render::Renderer as `render` and the desktop viewer, driven from JavaScript through embind.
+// Platform code only: the page (web/histoview.js) fetches the export over HTTP and writes what
+// arrives into Emscripten's in-memory file system; this class reads the scene from there, and a
+// photograph joins the selection once its bytes have arrived (photoArrived). No threads: the
+// renderer decodes on this thread (decodeThreads 0), at most one photograph per frame, so the
+// picture improves from frame to frame while the page stays responsive.
+#include "hv/gpu/gl.h"
+#include "hv/gpu/present.h"
+#include "hv/io/cameras_json.h"
+#include "hv/io/web_scene.h"
+#include "hv/render/renderer.h"
+#include "hv/viewer/navigation.h"
+
+#include <emscripten.h>
+#include <emscripten/bind.h>
+#include <emscripten/html5.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace hv::web {
+
+using json = nlohmann::json;
+using namespace hv::viewer;
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+class WebViewer {
+ public:
+  // `canvas`: a CSS selector ("#view"). Throws (reported to JS) when WebGL2 is unavailable.
+  explicit WebViewer(const std::string& canvas) {
+    EmscriptenWebGLContextAttributes attrs;
+    emscripten_webgl_init_context_attributes(&attrs);
+    attrs.majorVersion = 2;
+    attrs.minorVersion = 0;
+    attrs.alpha = false;
+    attrs.depth = false;
+    attrs.stencil = false;
+    attrs.antialias = false;
+    attrs.preserveDrawingBuffer = true;  // frames are drawn only when something changed
+    context_ = emscripten_webgl_create_context(canvas.c_str(), &attrs);
+    if (context_ <= 0) {
+      error_ = "WebGL2 is not available on this page (emscripten_webgl_create_context: " + std::to_string(context_) + ")";
+      return;
+    }
+    emscripten_webgl_make_context_current(context_);
+  }
+
+  std::string error() const { return error_; }
+  std::string glInfo() const { return context_ > 0 ? gpu::glDescription() : std::string(); }
+
+  // Reads the scene from the in-memory file system (manifest path) and creates the renderer.
+  // Every photograph starts excluded until photoArrived. Returns "" or the errors, one per line.
+  std::string load(const std::string& manifest, int k, int depthSize) {
+    if (context_ <= 0) return error_;
+    try {
+      Diagnostics diag;
+      WebSceneOptions options;
+      options.checkImageFiles = false;  // the images are fetched afterwards
+      scene_ = std::make_unique<Scene>(readWebScene(manifest, options, diag));
+      render::RenderSettings s;
+      s.decodeThreads = 0;
+      s.blend.k = k;
+      s.depthSize = depthSize;
+      s.readBackColour = false;
+      s.maxSliceSize = 1024;
+      s.memoryBudgetBytes = std::size_t(384) << 20;
+      s.decodeMemoryBytes = std::size_t(96) << 20;
+      s.depthMapsPerFrame = 4;
+      for (const auto& p : scene_->photos) s.blend.exclude.push_back(p.camera.id);
+      renderer_ = std::make_unique<render::Renderer>(*scene_, s, diag_);
+      presenter_ = std::make_unique<gpu::Presenter>();
+      nav_ = std::make_unique<Navigator>(scene_->up, nullptr);
+      const double spacing = scene_->cameraSpacing();
+      nav_->settings().speed = std::clamp(spacing, 1.0, 50.0);
+      focus_.stepBack = 2.0 * spacing;
+      std::vector<glm::dvec3> centres;
+      for (const auto& p : scene_->photos) centres.push_back(p.camera.center);
+      order_ = streetOrder(centres);
+      std::string errors;
+      for (const auto& e : diag.errors) errors += e + "\n";
+      for (const auto& w : diag.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+      if (scene_->photos.empty()) errors += manifest + ": no photographs\n";
+      return errors;
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+  }
+
+  // The photographs as JSON: [{"id", "date", "image", "mask"}] (paths in the file system).
+  std::string photos() const {
+    json a = json::array();
+    if (!scene_) return a.dump();
+    for (const auto& p : scene_->photos)
+      a.push_back({{"id", p.camera.id}, {"date", p.date}, {"image", p.imagePath}, {"mask", p.maskPath}});
+    return a.dump();
+  }
+  // Photograph indices, nearest camera centre to the current view first (the order to fetch in).
+  std::string fetchOrder() const {
+    std::vector<int> idx(scene_ ? scene_->photos.size() : 0);
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = int(i);
+    if (nav_) {
+      const glm::dvec3 c = nav_->camera().center;
+      std::stable_sort(idx.begin(), idx.end(), [&](int a, int b) {
+        return glm::distance(scene_->photos[size_t(a)].camera.center, c) <
+               glm::distance(scene_->photos[size_t(b)].camera.center, c);
+      });
+    }
+    return json(idx).dump();
+  }
+  // The photograph's files are in the file system: it may texture the view from the next frame.
+  void photoArrived(int i) {
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
+    auto& ex = renderer_->settings().blend.exclude;
+    ex.erase(std::remove(ex.begin(), ex.end(), scene_->photos[size_t(i)].camera.id), ex.end());
+    ++arrived_;
+    dirty_ = true;
+  }
+  int arrived() const { return arrived_; }
+
+  // Cameras. The views file (cameras.json schema, images optional) is in the file system.
+  std::string setViewFromFile(const std::string& path, const std::string& id, int width, int height) {
+    try {
+      Diagnostics diag;
+      CameraFileOptions o;
+      o.requireImages = false;
+      o.checkImageFiles = false;
+      for (const auto& v : readCameraFile(path, o, diag))
+        if (v.camera.id == id) return setCameraFitted(v.camera, width, height);
+      for (const auto& p : scene_->photos)
+        if (p.camera.id == id) return setCameraFitted(p.camera, width, height);
+      return "no view or photograph has the id '" + id + "'";
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  // An overview from the south-west, above the scene (the desktop viewer's start).
+  void overview(int width, int height) {
+    const UpFrame f = upFrame(scene_->up);
+    const Aabb b = scene_->bounds();
+    const double extent = std::max(1.0, std::max(b.size().x, b.size().y));
+    const glm::dvec3 centre = b.center();
+    const glm::dvec3 eye = centre - (0.55 * f.north + 0.25 * f.east) * extent + 0.35 * extent * f.up;
+    const double focal = height / 2.0 / std::tan(30.0 * M_PI / 180.0);
+    nav_->setCamera(lookAtCamera("web", eye, centre, width, height, focal, f.up));
+    focusPath_.reset();
+    dirty_ = true;
+  }
+  // Keeps the camera, at another canvas size (the focal scaled with the height).
+  void resize(int width, int height) {
+    const Camera& c = nav_->camera();
+    if (c.width == width && c.height == height) return;
+    nav_->setCamera(c.scaled(double(height) / c.height, width, height));
+    dirty_ = true;
+  }
+
+  // One frame's navigation input (keys: right, forward, up in [-1, 1]; mouse motion in pixels).
+  void move(double right, double forward, double up, double lookX, double lookY, bool fast, double dt) {
+    if (!nav_) return;
+    NavigationInput in;
+    in.move = {right, forward, up};
+    in.lookPixels = {lookX, lookY};
+    in.fast = fast;
+    in.dt = dt;
+    if (glm::length(in.move) > 0.0 || glm::length(in.lookPixels) > 0.0) focusPath_.reset();
+    if (nav_->update(in)) dirty_ = true;
+  }
+  void setSpeed(double s) { if (nav_) nav_->settings().speed = s; }
+  double speed() const { return nav_ ? nav_->settings().speed : 0.0; }
+
+  // Focus + context on photograph i: travel to its camera, hold, step back.
+  void focusPhoto(int i) {
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
+    focused_ = i;
+    focusPath_ = std::make_unique<FocusContextPath>(nav_->camera(), scene_->photos[size_t(i)].camera, focus_, nullptr);
+    focusStart_ = std::chrono::steady_clock::now();
+    nav_->setMode(Mode::Fly);
+  }
+  // The photograph `steps` along the street from the focused one (N / P).
+  int stepPhoto(int steps) {
+    if (order_.empty()) return -1;
+    const int next = stepAlong(order_, focused_, steps);
+    focusPhoto(next);
+    return next;
+  }
+  int focused() const { return focused_; }
+
+  void setK(int k) { renderer_->settings().blend.k = std::max(1, k); dirty_ = true; }
+  void setOcclusion(bool on) { renderer_->settings().blend.occlusion = on; dirty_ = true; }
+  void setDepthMapsPerFrame(int n) { renderer_->settings().depthMapsPerFrame = std::max(1, n); dirty_ = true; }
+  void setStepBack(double d) { focus_.stepBack = d; }
+
+  // Renders a progressive frame into the canvas when something changed (or `force`); returns
+  // false when nothing was drawn. `timed`: waits for the GPU (a 1-pixel read-back: glFinish does
+  // not block in WebGL) so lastFrameMs is the frame's time, not its submission's.
+  bool frame(int width, int height, bool force, bool timed) {
+    if (!renderer_ || context_ <= 0) return false;
+    emscripten_webgl_make_context_current(context_);
+    if (focusPath_) {
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - focusStart_).count();
+      Camera c = focusPath_->at(std::min(t, focusPath_->duration()));
+      nav_->setCamera(c.width == width && c.height == height ? c : c.scaled(double(height) / c.height, width, height));
+      if (t >= focusPath_->duration()) focusPath_.reset();
+      dirty_ = true;
+    }
+    resize(width, height);
+    if (!force && !dirty_ && renderer_->converged()) return false;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      renderer_->render(nav_->camera(), false, render::FrameMode::Progressive);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      glViewport(0, 0, width, height);
+      presenter_->blitFlipped(renderer_->colorTexture(), {width, height}, {width, height});
+      if (timed) {
+        unsigned char px[4];
+        glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
+      }
+    } catch (const std::exception& e) {
+      error_ = e.what();
+      renderer_.reset();
+      return false;
+    }
+    lastFrameMs_ = msSince(t0);
+    dirty_ = false;
+    ++frames_;
+    return true;
+  }
+
+  // {"converged", "arrived", "photos", "frames", "lastFrameMs", "imagesLoaded", "depthMaps",
+  //  "waiting", "errors": [...]} (errors: photographs that failed to decode, and fatal ones).
+  std::string status() const {
+    json s = {{"converged", renderer_ ? renderer_->converged() : false},
+              {"arrived", arrived_},
+              {"photos", scene_ ? scene_->photos.size() : 0},
+              {"frames", frames_},
+              {"lastFrameMs", lastFrameMs_},
+              {"focusing", bool(focusPath_)},
+              {"errors", diag_.errors}};
+    if (!error_.empty()) s["errors"].push_back(error_);
+    if (renderer_) {
+      const auto& st = renderer_->stats();
+      s["imagesLoaded"] = st.imagesLoaded;
+      s["depthMaps"] = st.depthMapsRendered;
+      s["waiting"] = st.imagesWaiting;
+      s["selected"] = renderer_->lastPlan().images.size();
+    }
+    return s.dump();
+  }
+  // The current camera (cameras.json schema), e.g. to share a view.
+  std::string camera() const {
+    if (!nav_) return "{}";
+    Photo p;
+    p.camera = nav_->camera();
+    return cameraJson({p}, "");
+  }
+
+ private:
+  std::string setCameraFitted(const Camera& c, int width, int height) {
+    Camera fitted;
+    try {
+      fitted = c.resized(width, height);  // the exact camera (render's picture) at the same aspect
+    } catch (const std::invalid_argument&) {
+      fitted = photoInWindow(c, width, height);
+    }
+    nav_->setCamera(fitted);
+    focusPath_.reset();
+    dirty_ = true;
+    return "";
+  }
+
+  EMSCRIPTEN_WEBGL_CONTEXT_HANDLE context_ = 0;
+  std::string error_;
+  Diagnostics diag_;
+  std::unique_ptr<Scene> scene_;
+  std::unique_ptr<render::Renderer> renderer_;
+  std::unique_ptr<gpu::Presenter> presenter_;
+  std::unique_ptr<Navigator> nav_;
+  std::unique_ptr<FocusContextPath> focusPath_;
+  std::chrono::steady_clock::time_point focusStart_;
+  FocusContextSettings focus_;
+  std::vector<int> order_;
+  int focused_ = -1;
+  int arrived_ = 0;
+  int frames_ = 0;
+  double lastFrameMs_ = 0.0;
+  bool dirty_ = true;
+};
+
+EMSCRIPTEN_BINDINGS(histoview) {
+  emscripten::class_<WebViewer>("WebViewer")
+      .constructor<std::string>()
+      .function("error", &WebViewer::error)
+      .function("glInfo", &WebViewer::glInfo)
+      .function("load", &WebViewer::load)
+      .function("photos", &WebViewer::photos)
+      .function("fetchOrder", &WebViewer::fetchOrder)
+      .function("photoArrived", &WebViewer::photoArrived)
+      .function("arrived", &WebViewer::arrived)
+      .function("setViewFromFile", &WebViewer::setViewFromFile)
+      .function("overview", &WebViewer::overview)
+      .function("move", &WebViewer::move)
+      .function("setSpeed", &WebViewer::setSpeed)
+      .function("speed", &WebViewer::speed)
+      .function("focusPhoto", &WebViewer::focusPhoto)
+      .function("stepPhoto", &WebViewer::stepPhoto)
+      .function("focused", &WebViewer::focused)
+      .function("setK", &WebViewer::setK)
+      .function("setOcclusion", &WebViewer::setOcclusion)
+      .function("setDepthMapsPerFrame", &WebViewer::setDepthMapsPerFrame)
+      .function("setStepBack", &WebViewer::setStepBack)
+      .function("frame", &WebViewer::frame)
+      .function("status", &WebViewer::status)
+      .function("camera", &WebViewer::camera);
+}
+
+}  // namespace hv::web
