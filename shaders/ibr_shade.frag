@@ -37,6 +37,8 @@ uniform vec3 u_background;
 // > 0: pixels without geometry see a sphere of this radius around the view (iTowns'
 // backgroundDistance); from a photograph's own centre it shows the photograph whatever the radius.
 uniform float u_sphereRadius;
+uniform bool u_points;                     // the point pass ran (issue 4)
+uniform highp sampler2D u_pointColor;      // its colour, per view-depth texel (points.frag)
 
 out vec4 o_color;
 
@@ -141,6 +143,16 @@ void main() {
   if (building > 0) {
     int index = building - 1;
     existed = texelFetch(u_validity, ivec2(index % u_validityWidth, index / u_validityWidth), 0).xy;
+  }
+
+  // A point sprite won the view's depth test here: its colour pass already textured it
+  // (shaders/points.frag; a = 1 textured, 0.5 shown in its own colour, not covered).
+  if (u_points && u_mode == 0) {
+    vec4 pc = texelFetch(u_pointColor, dpix, 0);
+    if (pc.a > 0.0) {
+      o_color = vec4(pc.rgb, pc.a > 0.75 ? 1.0 : 0.0);
+      return;
+    }
   }
 
   HvBlend blend = HvBlend(vec3(0.0), 0.0, 0, false);

@@ -72,6 +72,30 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("--to", o.to, "only photographs dated on or before DATE (ISO 8601, as --from)")
       ->check(isoDate());
   cmd.add_flag("--dated-only", o.datedOnly, "leave out undated photographs (kept by default)");
+  cmd.add_flag("--points", o.points, "draw the scene's point cloud as textured sprites");
+  cmd.add_option("--point-budget", o.pointBudget, "points drawn per frame (and per depth map)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--point-radius", o.pointRadius,
+                 "sprite radius, scene units (default: 0.75 x each chunk's point spacing)");
+  cmd.add_option("--sprite-form", o.spriteForm,
+                 "nprime (one vec3 varying, 2022) or mat3 (a mat3 varying per image, 2016; K capped by the varyings)")
+      ->check(CLI::IsMember({"nprime", "mat3"}));
+  cmd.add_option("--point-filter", o.pointFilter,
+                 "auto (class when the cloud is classified, else epsilon), class, epsilon or none")
+      ->check(CLI::IsMember({"auto", "class", "epsilon", "none"}));
+  cmd.add_option("--kept-classes", o.keptClasses, "non-transient ASPRS classes, textured (default 2,6,9,10,11,17)")
+      ->delimiter(',');
+  cmd.add_flag("--no-points-in-depth-maps", o.noPointsInDepthMaps,
+               "class filter: depth maps hold the model only (default: also the kept points)");
+  cmd.add_flag("--hide-transient", o.hideTransient, "do not draw transient points (default: their own colour)");
+  cmd.add_option("--epsilon", o.epsilon,
+                 "epsilon filter: a point is textured by an image when within this of the model's depth there, "
+                 "scene units (default: 2e-3 of the scene extent)");
+  cmd.add_option("--mesh-offset", o.meshOffset, "hybrid: the mesh pushed back by this against the points, metres")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--point-color", o.pointColor, "untextured points: auto, rgb, intensity or class")
+      ->check(CLI::IsMember({"auto", "rgb", "intensity", "class"}));
+  cmd.add_flag("--no-eye-dome", o.noEyeDome, "no eye-dome lighting on untextured points");
 }
 
 std::optional<DateInterval> timeWindow(const std::string& from, const std::string& to) {
@@ -138,6 +162,24 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   s.backgroundSphere = o.backgroundDistance;
   s.blend.window = timeWindow(o.from, o.to);
   s.blend.datedOnly = o.datedOnly;
+  s.points.enabled = o.points;
+  s.points.budget = o.pointBudget;
+  s.points.radius = o.pointRadius;
+  s.points.form = o.spriteForm == "mat3" ? render::SpriteForm::Mat3 : render::SpriteForm::PlaneVector;
+  s.points.filter = o.pointFilter == "class"     ? render::PointFilter::Classification
+                    : o.pointFilter == "epsilon" ? render::PointFilter::Epsilon
+                    : o.pointFilter == "none"    ? render::PointFilter::None
+                                                 : render::PointFilter::Auto;
+  s.points.keptClasses = o.keptClasses;
+  s.points.keptInDepthMaps = !o.noPointsInDepthMaps;
+  s.points.hideTransient = o.hideTransient;
+  s.points.epsilon = o.epsilon;
+  s.points.meshOffset = o.meshOffset;
+  s.points.color = o.pointColor == "rgb"         ? PointColorMode::Rgb
+                   : o.pointColor == "intensity" ? PointColorMode::Intensity
+                   : o.pointColor == "class"     ? PointColorMode::Classification
+                                                 : PointColorMode::Auto;
+  s.points.eyeDome = !o.noEyeDome;
   return s;
 }
 

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -42,6 +43,19 @@ struct ViewOptions {
   double backgroundDistance = -1.0;  // render::RenderSettings::backgroundSphere
   std::string from, to;             // time window, ISO 8601 dates; empty: open on that side
   bool datedOnly = false;
+  // The point pass (issue 4).
+  bool points = false;
+  std::uint64_t pointBudget = 2'000'000;
+  double pointRadius = -1.0;
+  std::string spriteForm = "nprime";     // nprime | mat3
+  std::string pointFilter = "auto";      // auto | class | epsilon | none
+  std::vector<int> keptClasses{2, 6, 9, 10, 11, 17};
+  bool noPointsInDepthMaps = false;
+  bool hideTransient = false;
+  double epsilon = -1.0;
+  double meshOffset = 0.0;
+  std::string pointColor = "auto";       // auto | rgb | intensity | class
+  bool noEyeDome = false;
 };
 // `withViews`: the required --views option (render, eval); fly has --path instead.
 void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews = true);

@@ -4,6 +4,8 @@
 #include "hv/ibr/depth_scheduler.h"
 #include "hv/ibr/image_loader.h"
 #include "hv/ibr/slot_cache.h"
+#include "hv/ibr/sprite_homography.h"
+#include "hv/points/chunks.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/ibr/tile_culling.h"
 #include "hv/util/log.h"
@@ -29,7 +31,9 @@ enum Unit : GLint {
   kUnitLookup = 4,
   kUnitTileLists = 5,
   kUnitViewBuilding = 6,
-  kUnitValidity = 7
+  kUnitValidity = 7,
+  kUnitPointColor = 8,
+  kUnitPointParams = 9
 };
 
 void setNearestClamp(GLenum target) {
@@ -63,7 +67,16 @@ void uploadMat3(GLint loc, const glm::dmat3& m) {
   glUniformMatrix3fv(loc, 1, GL_FALSE, f);
 }
 
-enum ProgramIndex { kProgramDepth, kProgramViewDepth, kProgramShade, kProgramTileDepth };
+enum ProgramIndex { kProgramDepth, kProgramViewDepth, kProgramShade, kProgramTileDepth, kProgramNaive,
+                    kProgramPointDepth, kProgramPointColor };
+
+// Per point in the GPU buffer: render-frame position, normal (0 when none), colour + class.
+struct PointVertex {
+  float position[3];
+  float normal[3];
+  std::uint8_t color[4];
+};
+static_assert(sizeof(PointVertex) == 28);
 
 }  // namespace
 
@@ -76,6 +89,9 @@ const std::vector<ProgramSource>& programSources() {
       // The naive baseline; the renderer links it with its own count, this entry with one that any
       // ES 3.0 context has units for (16 units: 6 for the pass, 2 per image).
       {"fullscreen.vert", "ibr_shade.frag", {"HV_NAIVE", "HV_NAIVE_COUNT=5"}},
+      {"points.vert", "points.frag", {"HV_DEPTH_ONLY"}},   // point sprites into depth maps and the view
+      {"points.vert", "points.frag", {}},                  // textured sprites, 2022 form (N')
+      {"points.vert", "points.frag", {"HV_MAT3_K=4"}},     // the 2016 form (the renderer picks K)
   };
   return list;
 }
@@ -123,6 +139,23 @@ struct Renderer::Impl {
   std::vector<ibr::ImageParams> params;
   RenderStats stats;
 
+  // The point pass (issue 4).
+  bool pointsOn = false;        // the scene has points and settings.points.enabled (array binding)
+  bool classify = false;        // the classification filter applies
+  bool epsilonTest = false;     // the epsilon filter applies
+  bool pointsInDepthMaps = false;
+  int mat3K = 0;                // > 0: the 2016 form with this many images
+  float maxPointSize = 1.0f;
+  gpu::Program pointDepthProgram, pointColorProgram;
+  gpu::VertexArray pointVao;
+  gpu::Buffer pointBuffer;
+  std::vector<double> chunkSpacing;  // mean point spacing of each chunk, scene units
+  gpu::Texture pointColor, pointParamsTexture;
+  glm::ivec2 pointColorSize{0};
+  int pointParamsRows = 0;
+  bool pointsThisFrame = false;
+  bool warnedMat3 = false;
+
   Impl(const Scene& s, RenderSettings st, Diagnostics& d) : scene(s), settings(st), diag(d), index(centers(s)) {}
 
   static std::vector<glm::dvec3> centers(const Scene& s) {
@@ -140,6 +173,7 @@ struct Renderer::Impl {
     shadeProgram = link(kProgramShade);  // replaced below for the naive binding
     tileDepthProgram = link(kProgramTileDepth);
     uploadGeometry();
+    initPoints();
     allocateSlots();
     if (naive()) {
       const auto& sh = src[kProgramShade];
@@ -226,6 +260,235 @@ struct Renderer::Impl {
   }
 
   bool naive() const { return settings.binding == Binding::Naive; }
+
+  // The point buffer (uploaded once, in chunk order), the filters that apply and the programs.
+  void initPoints() {
+    const PointCloud& cloud = scene.points;
+    const PointSettings& ps = settings.points;
+    if (cloud.empty() || !ps.enabled) return;
+    if (naive()) {
+      diag.warn("points are drawn only with the texture-array binding; --binding naive leaves them out");
+      return;
+    }
+    if (cloud.chunks.empty()) throw std::runtime_error("point cloud not organised into chunks (hv::organizeChunks)");
+    const PointFields fields = cloud.fields();
+    PointFilter filter = ps.filter;
+    if (filter == PointFilter::Auto) filter = fields.classification ? PointFilter::Classification : PointFilter::Epsilon;
+    if (filter == PointFilter::Classification && !fields.classification) {
+      diag.warn(cloud.sourcePath + ": no classification; filtering points by epsilon instead");
+      filter = PointFilter::Epsilon;
+    }
+    classify = filter == PointFilter::Classification;
+    epsilonTest = filter == PointFilter::Epsilon;
+    pointsInDepthMaps = classify && ps.keptInDepthMaps;
+
+    const std::vector<glm::u8vec4> colors = pointDisplayColors(cloud, ps.color);
+    std::vector<PointVertex> vertices(cloud.size());
+    for (size_t i = 0; i < cloud.size(); ++i) {
+      const glm::dvec3 r = cloud.positions[i] - scene.origin;  // render frame (DESIGN.md §1)
+      const glm::vec3 n = fields.normals ? cloud.normals[i] : glm::vec3(0.0f);
+      vertices[i] = {{float(r.x), float(r.y), float(r.z)}, {n.x, n.y, n.z},
+                     {colors[i].r, colors[i].g, colors[i].b, colors[i].a}};
+    }
+    pointVao = gpu::makeVertexArray();
+    pointBuffer = gpu::makeBuffer();
+    glBindVertexArray(pointVao.id());
+    glBindBuffer(GL_ARRAY_BUFFER, pointBuffer.id());
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(PointVertex)), vertices.data(), GL_STATIC_DRAW);
+    const GLsizei stride = sizeof(PointVertex);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(PointVertex, normal)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, stride,
+                          reinterpret_cast<const void*>(offsetof(PointVertex, color)));
+    glBindVertexArray(0);
+    checkGlError("point upload");
+
+    // Mean spacing of each chunk's points on the surface they sample: the area of the box's two
+    // largest sides over the count (a chunk of lidar covers a patch of ground or facade).
+    for (const PointChunk& c : cloud.chunks) {
+      glm::dvec3 e = c.bounds.size();
+      std::sort(&e[0], &e[0] + 3);
+      const double area = std::max(e[1] * e[2], 1e-6);
+      chunkSpacing.push_back(std::sqrt(area / std::max<std::uint32_t>(c.count, 1)));
+    }
+    const Aabb pb = cloud.bounds();
+    bounds.extend(pb);
+    geometryBounds.extend(pb);
+
+    GLfloat range[2] = {1.0f, 1.0f};
+    glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, range);
+    maxPointSize = float(std::max(1.0, std::min<double>(range[1], ps.maxPointSizePx)));
+    const auto& src = programSources();
+    pointDepthProgram = gpu::Program(src[kProgramPointDepth].vertex, src[kProgramPointDepth].fragment,
+                                     src[kProgramPointDepth].defines);
+    if (ps.form == SpriteForm::Mat3) {
+      // The 2016 form carries 9 floats per image in varyings: link the largest K up to the
+      // requested one that fits (MAX_VARYING_COMPONENTS).
+      const int want = std::max(1, std::min(settings.blend.k, std::max(1, int(scene.photos.size()))));
+      // Linking far beyond the limit can crash a driver's compiler (llvmpipe does at K = 40)
+      // instead of failing: start from what the limit allows, 9 components per image.
+      const int start = std::max(1, std::min(want, limits.maxVaryingComponents / 9));
+      for (int k = start; k >= 1 && mat3K == 0; --k) {
+        try {
+          pointColorProgram = gpu::Program("points.vert", "points.frag", {"HV_MAT3_K=" + std::to_string(k)});
+          mat3K = k;
+        } catch (const std::runtime_error&) {
+        }
+      }
+      if (mat3K == 0) throw std::runtime_error("the mat3 sprite program links with no image at all");
+      if (mat3K < want)
+        diag.warn("mat3 sprites: K = " + std::to_string(want) + " does not link (MAX_VARYING_COMPONENTS = " +
+                  std::to_string(limits.maxVaryingComponents) + ", 9 per image); using K = " + std::to_string(mat3K) +
+                  " for the points");
+      stats.mat3Images = mat3K;
+    } else {
+      pointColorProgram = gpu::Program(src[kProgramPointColor].vertex, src[kProgramPointColor].fragment,
+                                       src[kProgramPointColor].defines);
+    }
+    pointsOn = true;
+    log::debug("points: " + std::to_string(cloud.size()) + " in " + std::to_string(cloud.chunks.size()) +
+               " chunks; filter " + (classify ? "classification" : epsilonTest ? "epsilon" : "none") +
+               (mat3K > 0 ? ", mat3 form K = " + std::to_string(mat3K) : ", N' form"));
+  }
+
+  double pointEpsilon() const {
+    if (settings.points.epsilon >= 0.0) return settings.points.epsilon;
+    return 2e-3 * glm::length(bounds.size());  // the data's own scale (DESIGN.md §1)
+  }
+
+  // Draws the sprites a camera sees (selectChunks within the budget) with `program` into a target
+  // of `size` texels covering `fr`. The caller sets the depth state and the program's own uniforms.
+  std::uint64_t drawPoints(const gpu::Program& program, const Camera& cam, const ibr::PinholeFrustum& fr,
+                           glm::ivec2 size, bool dropTransient, double depthOffset) {
+    const PointSettings& ps = settings.points;
+    const glm::dmat3 M = ibr::targetCameraMatrix(cam, fr, size);
+    const glm::dmat3 Minv = glm::inverse(M);
+    const glm::dvec3 c = cam.center - scene.origin;
+    program.use();
+    uploadMat3(program.uniform("u_M"), M);
+    uploadMat3(program.uniform("u_MinvT"), glm::transpose(Minv));
+    uploadMat3(program.uniform("u_Minv"), Minv);
+    glUniform3f(program.uniform("u_C"), float(c.x), float(c.y), float(c.z));
+    glUniform2f(program.uniform("u_targetSize"), float(size.x), float(size.y));
+    glUniform1f(program.uniform("u_near"), float(fr.near));
+    glUniform1f(program.uniform("u_far"), float(fr.far));
+    glUniform1f(program.uniform("u_maxPointSize"), maxPointSize);
+    glUniform1f(program.uniform("u_depthOffset"), float(depthOffset));
+    glUniform1i(program.uniform("u_classify"), classify ? 1 : 0);
+    glUniform1i(program.uniform("u_dropTransient"), dropTransient ? 1 : 0);
+    GLuint mask[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (int k : ps.keptClasses)
+      if (k >= 0 && k < 256) mask[k >> 5] |= 1u << (k & 31);
+    glUniform1uiv(program.uniform("u_keptClasses"), 8, mask);
+    const GLint radiusLoc = program.uniform("u_radius");
+    std::uint64_t drawn = 0;
+    glBindVertexArray(pointVao.id());
+    for (const ChunkDraw& d : selectChunks(scene.points, cam, ps.budget)) {
+      const PointChunk& chunk = scene.points.chunks[d.chunk];
+      // A prefix of k of the chunk's n points is a uniform subsample: spacing grows by sqrt(n / k).
+      const double r = ps.radius > 0.0 ? ps.radius
+                                       : ps.radiusScale * chunkSpacing[d.chunk] *
+                                             std::sqrt(double(chunk.count) / std::max<std::uint32_t>(d.count, 1));
+      glUniform1f(radiusLoc, float(r));
+      glDrawArrays(GL_POINTS, GLint(chunk.first), GLsizei(d.count));
+      drawn += d.count;
+    }
+    glBindVertexArray(0);
+    return drawn;
+  }
+
+  // H'_i and E_i of every image of the frame for the view's target (2022 §2.3): 3 texels per image.
+  void uploadPointParams(const glm::dmat3& viewM, const glm::dvec3& viewC) {
+    const int rows = std::max<int>(1, int(params.size()));
+    if (!pointParamsTexture || rows > pointParamsRows) {
+      pointParamsRows = std::max(rows, 64);
+      pointParamsTexture = gpu::makeTexture();
+      glBindTexture(GL_TEXTURE_2D, pointParamsTexture.id());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 3, pointParamsRows, 0, GL_RGBA, GL_FLOAT, nullptr);
+      setNearestClamp(GL_TEXTURE_2D);
+    }
+    std::vector<float> packed;
+    for (const ibr::ImageParams& im : params) {
+      const ibr::SpriteImage si = ibr::spriteImage(viewM, viewC, im.pixFromWorld, im.centerRender);
+      for (int r = 0; r < 3; ++r)
+        packed.insert(packed.end(), {float(si.hPrime[0][r]), float(si.hPrime[1][r]), float(si.hPrime[2][r]),
+                                     float(si.e[r])});
+    }
+    if (!params.empty()) {
+      glBindTexture(GL_TEXTURE_2D, pointParamsTexture.id());
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 3, GLsizei(params.size()), GL_RGBA, GL_FLOAT, packed.data());
+    }
+  }
+
+  // The view's point passes, after the mesh's depth pass, in the view-depth target (the ideal
+  // rectangle covering the view, so distorted views resample it as they do the mesh's depth):
+  // sprites' depths into the view depth (depth test against the mesh), then the winners'
+  // colours into pointColor. Leaves viewFbo bound.
+  void renderViewPoints(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz,
+                        const ibr::BlendSettings& blend) {
+    const PointSettings& ps = settings.points;
+    const GLenum none = GL_NONE, color0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &none);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    stats.pointsDrawn = drawPoints(pointDepthProgram, view, vf, depthSz, ps.hideTransient, ps.meshOffset);
+    glDisable(GL_DEPTH_TEST);
+
+    if (depthSz != pointColorSize) {
+      pointColor = makeRgba8Target(depthSz.x, depthSz.y);
+      pointColorSize = depthSz;
+    }
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, pointColor.id(), 0);
+    glDrawBuffers(1, &color0);
+    gpu::checkFramebuffer("point colour");
+    const GLfloat clear[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, clear);
+    const glm::dmat3 M = ibr::targetCameraMatrix(view, vf, depthSz);
+    uploadPointParams(M, view.center - scene.origin);
+    const gpu::Program& p = pointColorProgram;
+    p.use();
+    glActiveTexture(GL_TEXTURE0 + kUnitImages);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitParams);
+    glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
+    glBindTexture(GL_TEXTURE_2D, viewDepth.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitPointParams);
+    glBindTexture(GL_TEXTURE_2D, pointParamsTexture.id());
+    glActiveTexture(GL_TEXTURE0);
+    glUniform1i(p.uniform("u_images"), kUnitImages);
+    glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
+    glUniform1i(p.uniform("u_params"), kUnitParams);
+    glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
+    glUniform1i(p.uniform("u_pointParams"), kUnitPointParams);
+    int n = int(params.size());
+    if (mat3K > 0 && n > mat3K) {
+      if (!warnedMat3)
+        diag.warn("mat3 sprites carry " + std::to_string(mat3K) + " images; the points blend the " +
+                  std::to_string(mat3K) + " nearest of " + std::to_string(n));
+      warnedMat3 = true;
+    }
+    glUniform1i(p.uniform("u_imageCount"), n);
+    glUniform1i(p.uniform("u_method"), blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+    glUniform1i(p.uniform("u_occlusion"), blend.occlusion ? 1 : 0);
+    glUniform1i(p.uniform("u_epsilonTest"), epsilonTest ? 1 : 0);
+    glUniform1f(p.uniform("u_epsilon"), float(pointEpsilon()));
+    glUniform1i(p.uniform("u_eyeDome"), ps.eyeDome ? 1 : 0);
+    glUniform1f(p.uniform("u_edlStrength"), float(ps.eyeDomeStrength));
+    glUniform1f(p.uniform("u_edlRadius"), float(ps.eyeDomeRadiusPx));
+    // Both passes compute the same float expression; the tolerance only absorbs compilers that
+    // evaluate it differently in the two programs (1e-6 of the depth range).
+    glUniform1f(p.uniform("u_depthTolerance"), 1e-6f);
+    drawPoints(p, view, vf, depthSz, ps.hideTransient, ps.meshOffset);
+    checkGlError("point passes");
+  }
 
   void allocateSlots() {
     int w = 1, h = 1;
@@ -396,6 +659,13 @@ struct Renderer::Impl {
     gpu::checkFramebuffer("depth map");
     glViewport(0, 0, depthSize, depthSize);
     drawDepth(depthProgram, ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo));
+    if (pointsOn && pointsInDepthMaps) {
+      // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      drawPoints(pointDepthProgram, cam, fr, {depthSize, depthSize}, true, 0.0);
+      glDisable(GL_DEPTH_TEST);
+    }
     depthScheduler.done(slot);
     ++stats.depthMapsRendered;
     ++stats.depthMapsThisFrame;
@@ -562,6 +832,9 @@ struct Renderer::Impl {
     glClearBufferfv(GL_COLOR, 0, noBuilding);
     // The view shows today's geometry: every surface, whatever its dates.
     drawDepth(viewDepthProgram, ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far, DateInterval{});
+    pointsThisFrame = pointsOn;
+    stats.pointsDrawn = 0;
+    if (pointsThisFrame) renderViewPoints(view, vf, depthSz, blend);
 
     if (distorted) uploadIdealLookup(view);
     // The naive binding walks every selected image (it is the baseline without culling).
@@ -733,6 +1006,14 @@ struct Renderer::Impl {
     glBindTexture(GL_TEXTURE_2D, validityTexture.id());
     glActiveTexture(GL_TEXTURE0);
     glUniform1i(p.uniform("u_viewBuilding"), kUnitViewBuilding);
+    if (pointsThisFrame) {  // (the naive binding has its photographs on units from 8 up)
+      glActiveTexture(GL_TEXTURE0 + kUnitPointColor);
+      glBindTexture(GL_TEXTURE_2D, pointColor.id());
+      glActiveTexture(GL_TEXTURE0);
+    }
+    // Without points the sampler points at a unit of the same type that is never read.
+    glUniform1i(p.uniform("u_pointColor"), pointsThisFrame ? kUnitPointColor : kUnitLookup);
+    glUniform1i(p.uniform("u_points"), pointsThisFrame ? 1 : 0);
     glUniform1i(p.uniform("u_validity"), kUnitValidity);
     glUniform1i(p.uniform("u_validityWidth"), validityWidth);
     glUniform1i(p.uniform("u_culling"), cullingThisFrame ? 1 : 0);
@@ -770,6 +1051,22 @@ struct Renderer::Impl {
     return img;
   }
 };
+
+int probeMat3SpriteImages(int upTo) {
+  int best = 0;
+  // Not beyond the varying limit: some compilers crash there instead of failing to link.
+  upTo = std::min(upTo, gpu::queryLimits().maxVaryingComponents / 9);
+  for (int k = 1; k <= upTo; ++k) {
+    try {
+      gpu::Program p("points.vert", "points.frag", {"HV_MAT3_K=" + std::to_string(k)});
+      best = k;
+    } catch (const std::runtime_error&) {
+      break;
+    }
+  }
+  gpu::clearGlErrors();
+  return best;
+}
 
 Renderer::Renderer(const Scene& scene, RenderSettings settings, Diagnostics& diag)
     : impl_(std::make_unique<Impl>(scene, settings, diag)) {

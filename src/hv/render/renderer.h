@@ -7,6 +7,7 @@
 #include "hv/ibr/selection.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/image/image.h"
+#include "hv/points/point_colors.h"
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
 
@@ -27,6 +28,39 @@ enum class Binding {
 };
 
 inline constexpr double kDefaultSphereRadius = 100.0;
+// How a point sprite finds its texture coordinates (DESIGN.md §2 step 6).
+enum class SpriteForm {
+  PlaneVector,  // 2022: one vec3 varying N', p_i = H'_i p + (N'.p) E_i in the fragment shader
+  Mat3,         // 2016: a mat3 varying per image (H_i), capped by MAX_VARYING_COMPONENTS
+};
+
+// Which points the photographs texture (DESIGN.md §2 step 7; 2022 §2.4).
+enum class PointFilter {
+  Auto,            // Classification when the cloud has classes, else Epsilon
+  Classification,  // only keptClasses are textured (and, keptInDepthMaps, occlude)
+  Epsilon,         // depth maps hold the model only; image i textures a point within epsilon of it
+  None,            // every point textured, depth maps the model only, the ordinary shadow test
+};
+
+// The point pass (issue 4): scene.points drawn as textured sprites over the mesh.
+struct PointSettings {
+  bool enabled = false;                // draw scene.points (when there are any)
+  std::uint64_t budget = 2'000'000;    // points per frame (and per depth map), hv::selectChunks
+  double radius = -1.0;                // world radius of a sprite, scene units; <= 0: per chunk,
+  double radiusScale = 0.75;           //   this times the chunk's point spacing at the drawn density
+  double maxPointSizePx = 64.0;        // also capped by ALIASED_POINT_SIZE_RANGE
+  SpriteForm form = SpriteForm::PlaneVector;
+  PointFilter filter = PointFilter::Auto;
+  std::vector<int> keptClasses{2, 6, 9, 10, 11, 17};  // ground, building, water, rail, road, bridge deck
+  bool keptInDepthMaps = true;         // Classification: non-transient points occlude in depth maps
+  bool hideTransient = false;          // transient points hidden, else shown untextured
+  double epsilon = -1.0;               // Epsilon filter, scene units; < 0: 2e-3 of the scene's extent
+  double meshOffset = 0.0;             // hybrid: the mesh pushed back by this (metres) against points
+  PointColorMode color = PointColorMode::Auto;  // untextured points
+  bool eyeDome = true;                 // eye-dome lighting on untextured points (Potree)
+  double eyeDomeStrength = 0.4;
+  double eyeDomeRadiusPx = 1.4;
+};
 
 struct RenderSettings {
   Binding binding = Binding::Array;
@@ -60,6 +94,7 @@ struct RenderSettings {
   // false: render() leaves RenderOutput::rgba empty and the colour stays on the GPU, in
   // colorTexture() (a window presents it without a GPU -> CPU copy). Counts are read back anyway.
   bool readBackColour = true;
+  PointSettings points;
 };
 
 enum class FrameMode {
@@ -83,7 +118,13 @@ struct RenderStats {
   std::size_t decodePeakBytes = 0; // most memory the image loader ever held
   int imagesLoaded = 0;
   double lastFrameMs = 0.0;
+  std::uint64_t pointsDrawn = 0;   // sprites of the last frame's view (not the depth maps)
+  int mat3Images = 0;              // SpriteForm::Mat3: images the linked program carries
 };
+
+// SpriteForm::Mat3 (a mat3 varying per image): the largest image count, up to `upTo`, whose
+// point program links on the current context (0: none), found by linking K = 1, 2, ...
+int probeMat3SpriteImages(int upTo);
 
 // The programs the renderer links (vertex, fragment, defines): the one list the shader test checks.
 struct ProgramSource {

@@ -1,0 +1,152 @@
+#version 300 es
+// Point sprites, fragment side (DESIGN.md §2 steps 6-7). Each fragment finds the plane point X
+// under its pixel p = (gl_FragCoord.xy, 1) through the vector N' of its point: the depth of X in
+// the target camera is 1 / (N'.p), and X lies in the point's disk when |X - P| <= u_radius.
+// HV_DEPTH_ONLY: writes that depth (linear, as depth.frag) — the photographs' depth maps and the
+// view's point depth pass. Otherwise the colour pass: a fragment goes on only where its depth is
+// the one the depth pass kept (u_viewDepth), then is textured through the homography of each
+// image, p_i = H'_i p + (N'.p) E_i (2022 form) or p_i = H_i p (2016 form, HV_MAT3_K), with the
+// mesh pass's distortion, domain, mask, date and shadow tests (depth of X in image i:
+// p_i.z / (N'.p)). Twins: hv::ibr::spriteProject, spriteDepth (src/hv/ibr/sprite_homography.h).
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+precision highp sampler2DArray;
+
+uniform mat3 u_Minv;      // M^-1 of the target camera
+uniform float u_near;
+uniform float u_far;
+uniform float u_radius;
+uniform float u_depthOffset;  // hybrid rendering: points drawn this much nearer (= mesh pushed back)
+
+flat in vec3 v_nPrime;
+flat in vec3 v_PC;
+flat in vec4 v_color;
+
+// Linear depth of the plane point under this fragment, normalised between near and far; false
+// when the pixel misses the front of the plane or falls outside the point's disk.
+bool hv_spriteDepth(vec3 p, out float z, out float stored) {
+  float np = dot(v_nPrime, p);
+  z = 0.0;
+  stored = 1.0;
+  if (np <= 0.0) return false;
+  z = 1.0 / np;
+  vec3 d = z * (u_Minv * p) - v_PC;  // X - P
+  if (dot(d, d) > u_radius * u_radius) return false;
+  stored = clamp((z - u_depthOffset - u_near) / (u_far - u_near), 0.0, 1.0);
+  return true;
+}
+
+#ifdef HV_DEPTH_ONLY
+void main() {
+  float z, stored;
+  if (!hv_spriteDepth(vec3(gl_FragCoord.xy, 1.0), z, stored)) discard;
+  gl_FragDepth = stored;
+}
+#else
+#include "ibr_common.glsl"
+
+uniform highp sampler2DArray u_images;
+uniform highp sampler2DArray u_depthMaps;
+uniform highp sampler2D u_pointParams;  // per image: rows of H' (xyz) and E (w), 3 texels
+uniform highp sampler2D u_viewDepth;    // the depth pass (mesh, then points), same target
+uniform int u_imageCount;
+uniform int u_method;           // 0 blend, 1 nearest
+uniform bool u_occlusion;
+uniform bool u_epsilonTest;     // filtering without classification (2022 §2.4)
+uniform float u_epsilon;        // scene units
+uniform bool u_eyeDome;
+uniform float u_edlStrength;
+uniform float u_edlRadius;      // target pixels
+uniform vec3 u_C;               // target camera centre, render frame
+uniform float u_depthTolerance; // normalised depth: the colour pass keeps the depth pass's winner
+
+#ifdef HV_MAT3_K
+flat in mat3 v_H[HV_MAT3_K];
+#endif
+
+out vec4 o_color;  // rgb; a = 1 textured, 0.5 untextured (own colour), 0 no point
+
+// Twin of hv_shadowBias in ibr_shade.frag (hv::ibr::shadowBias).
+float hv_pointBias(HvImage im, float z, vec3 n, vec3 toP) {
+  float c = max(abs(dot(n, toP)), 0.1);
+  float tanTheta = sqrt(max(1.0 - c * c, 0.0)) / c;
+  return im.biasAbs + im.biasRel * z * (1.0 + tanTheta);
+}
+
+float hv_linearDepth(float stored) { return mix(u_near, u_far, stored); }
+
+// Eye-dome lighting as Potree does it: darken where neighbours are nearer (log depth).
+float hv_eyeDome(float z) {
+  if (!u_eyeDome) return 1.0;
+  ivec2 size = textureSize(u_viewDepth, 0);
+  float sum = 0.0;
+  const vec2 dirs[4] = vec2[4](vec2(1.0, 0.0), vec2(-1.0, 0.0), vec2(0.0, 1.0), vec2(0.0, -1.0));
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q = clamp(ivec2(gl_FragCoord.xy + u_edlRadius * dirs[k]), ivec2(0), size - 1);
+    float zn = hv_linearDepth(texelFetch(u_viewDepth, q, 0).r);
+    sum += max(0.0, log2(z) - log2(zn));
+  }
+  return exp(-sum / 4.0 * 300.0 * u_edlStrength);
+}
+
+void main() {
+  vec3 p = vec3(gl_FragCoord.xy, 1.0);
+  float z, stored;
+  if (!hv_spriteDepth(p, z, stored)) discard;
+  // Only the sprite that won the depth pass shades this pixel.
+  if (abs(texelFetch(u_viewDepth, ivec2(gl_FragCoord.xy), 0).r - stored) > u_depthTolerance) discard;
+  float np = dot(v_nPrime, p);
+  vec3 own = v_color.rgb * hv_eyeDome(z);
+  if (v_color.a < 0.5) {  // transient: never textured
+    o_color = vec4(own, 0.5);
+    return;
+  }
+  // The surface normal for the slope-scaled bias: N is parallel to M^T N' (render frame).
+  vec3 normal = normalize(transpose(u_Minv) * v_nPrime);
+  vec3 X = u_C + z * (u_Minv * p);  // render frame
+  vec3 sum = vec3(0.0);
+  float alpha = 0.0;
+  int n = u_imageCount;
+#ifdef HV_MAT3_K
+  n = min(n, HV_MAT3_K);
+#endif
+  for (int i = 0; i < n; ++i) {
+    HvImage im = hv_fetchImage(i);
+#ifdef HV_MAT3_K
+    vec3 pi = v_H[i] * p;
+#else
+    vec4 r0 = texelFetch(u_pointParams, ivec2(0, i), 0);
+    vec4 r1 = texelFetch(u_pointParams, ivec2(1, i), 0);
+    vec4 r2 = texelFetch(u_pointParams, ivec2(2, i), 0);
+    vec3 pi = vec3(dot(r0.xyz, p), dot(r1.xyz, p), dot(r2.xyz, p)) + np * vec3(r0.w, r1.w, r2.w);
+#endif
+    if (pi.z <= 0.0) continue;
+    float zi = pi.z / np;
+    vec2 pIdeal = pi.xy / pi.z;
+    vec2 pd;
+    if (!hv_distort(im, pIdeal, pd)) continue;
+    if (any(lessThan(pd, vec2(0.0))) || any(greaterThan(pd, im.size))) continue;
+    vec2 dt = (pIdeal - im.depthMin) * im.depthInvSize;
+    float zMap = mix(im.near, im.far, texture(u_depthMaps, vec3(dt, im.slice)).r);
+    if (u_epsilonTest) {
+      // Without classification the depth maps hold the city model only: a point well in front of
+      // it (a tree, a car) is not what the photograph shows there (2022 §2.4).
+      if (abs(zi - zMap) > u_epsilon) continue;
+    } else if (u_occlusion) {
+      if (zi > zMap + hv_pointBias(im, zi, normal, normalize(X - im.C))) continue;
+    }
+    vec4 texel = textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0);
+    if (texel.a <= 0.0) continue;
+    if (u_method == 1) {
+      sum = texel.rgb;
+      alpha = texel.a;
+      break;
+    }
+    if (im.weight <= 0.0) continue;
+    sum += im.weight * texel.rgb;
+    alpha += im.weight * texel.a;
+  }
+  o_color = alpha > 0.0 ? vec4(sum / alpha, 1.0) : vec4(own, 0.5);
+}
+#endif
