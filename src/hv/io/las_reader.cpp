@@ -200,14 +200,7 @@ PointCloud readLas(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext == ".laz") throw InputError(inputMessage(path, "", kLazAdvice));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(inputMessage(path, "", "cannot open the file"));
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  std::vector<std::uint8_t> bytes(size > 0 ? std::size_t(size) : 0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size())))
-    throw InputError(inputMessage(path, "", "read error"));
+  const std::vector<std::uint8_t> bytes = readFileBytes(path);
   return parseLas(bytes.data(), bytes.size(), path);
 }
 

@@ -334,14 +334,7 @@ PointCloud parsePlyPoints(const std::uint8_t* data, std::size_t size, const std:
 }
 
 PointCloud readPlyPoints(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(inputMessage(path, "", "cannot open the file"));
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  std::vector<std::uint8_t> bytes(size > 0 ? std::size_t(size) : 0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size())))
-    throw InputError(inputMessage(path, "", "read error"));
+  const std::vector<std::uint8_t> bytes = readFileBytes(path);
   return parsePlyPoints(bytes.data(), bytes.size(), path);
 }
 

@@ -5,6 +5,7 @@
 // and what was expected, skip the broken item, and go on. Callers decide what is fatal.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,5 +32,9 @@ struct Diagnostics {
 
 // Formats "file: field: message" the one way the project spells input errors.
 std::string inputMessage(const std::string& file, const std::string& field, const std::string& message);
+
+// The whole file as bytes (binary readers parse from memory). Throws InputError naming the file
+// when it cannot be opened or read.
+std::vector<std::uint8_t> readFileBytes(const std::string& path);
 
 }  // namespace hv
