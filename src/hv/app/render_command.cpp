@@ -68,8 +68,9 @@ int runInfo(const std::string& scenePath) {
   };
   std::cout << "crs        " << (scene.crs.empty() ? "(none given)" : crsText(scene.crs) + "; scene frame in metres")
             << "\n";
-  for (const auto& [source, crs] : scene.sourceCrs)
-    std::cout << "  " << source << " from " << crsText(crs) << "\n";
+  for (const Scene::SourceCrs& s : scene.sourceCrs)
+    std::cout << "  " << s.source << (s.transformed ? " from " : " in ") << crsText(s.crs)
+              << (s.transformed ? "" : " (taken as it is: the scene declares no crs)") << "\n";
   std::cout << "origin     " << vec3String(scene.origin) << " (render frame = world - origin)\n";
   std::cout << "up         " << vec3String(scene.up) << "\n";
   const Aabb b = scene.bounds();

@@ -1,6 +1,7 @@
 #include "hv/io/georef.h"
 
 #include <proj.h>
+#include <proj_experimental.h>  // proj_crs_demote_to_2D
 
 #include <algorithm>
 #include <cmath>
@@ -52,8 +53,37 @@ PjPtr createCrs(PJ_CONTEXT* ctx, const std::string& definition) {
   PjPtr pj(proj_create(ctx, definition.c_str()));
   if (!pj || !isCrsType(proj_get_type(pj.get())))
     throw InputError("CRS '" + definition + "': PROJ cannot read it as a coordinate reference system" +
-                     (pj ? "" : std::string(" (") + proj_context_errno_string(ctx, proj_context_errno(ctx)) + ")"));
+                     (pj ? "" : std::string(" (") + proj_context_errno_string(ctx, proj_context_errno(ctx)) + ")") +
+                     "; expected e.g. \"EPSG:2154\", \"EPSG:2154+5720\", WKT or a PROJ string");
   return pj;
+}
+
+// The horizontal part of a CRS: a bound CRS's source, a compound CRS's first component, a 3D
+// geographic or projected CRS taken as 2D. Others (geocentric, engineering) are returned as they are.
+PjPtr horizontalPart(PJ_CONTEXT* ctx, const PJ* crs) {
+  PjPtr out(proj_clone(ctx, crs));
+  for (int depth = 0; out && depth < 3; ++depth) {
+    const PJ_TYPE t = proj_get_type(out.get());
+    if (t == PJ_TYPE_BOUND_CRS)
+      out.reset(proj_get_source_crs(ctx, out.get()));
+    else if (t == PJ_TYPE_COMPOUND_CRS)
+      out.reset(proj_crs_get_sub_crs(ctx, out.get(), 0));
+    else
+      break;
+  }
+  if (!out) return out;
+  const PJ_TYPE t = proj_get_type(out.get());
+  PjPtr cs(proj_crs_get_coordinate_system(ctx, out.get()));
+  const bool threeAxes = cs && proj_cs_get_axis_count(ctx, cs.get()) == 3;
+  if (t == PJ_TYPE_GEOGRAPHIC_3D_CRS || (t == PJ_TYPE_PROJECTED_CRS && threeAxes)) {
+    PjPtr flat(proj_crs_demote_to_2D(ctx, nullptr, out.get()));
+    if (flat) out = std::move(flat);
+  }
+  return out;
+}
+
+bool equivalent(PJ_CONTEXT* ctx, const PJ* a, const PJ* b) {
+  return a && b && proj_is_equivalent_to_with_ctx(ctx, a, b, PJ_COMP_EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS);
 }
 
 struct Axis {
@@ -181,10 +211,26 @@ std::string CrsDescription::summary() const {
   return s.str();
 }
 
+double CrsDescription::heightToMetre() const {
+  if (hasVerticalAxis()) return verticalToMetre;
+  return horizontalToMetre > 0.0 ? horizontalToMetre : 1.0;
+}
+
 CrsDescription describeCrs(const std::string& definition) {
   CtxPtr ctx = newContext();
   PjPtr pj = createCrs(ctx.get(), definition);
   return describe(ctx.get(), pj.get(), definition);
+}
+
+bool equivalentCrs(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  CtxPtr ctx = newContext();
+  try {
+    const PjPtr pa = createCrs(ctx.get(), a), pb = createCrs(ctx.get(), b);
+    return equivalent(ctx.get(), pa.get(), pb.get());
+  } catch (const InputError&) {
+    return false;
+  }
 }
 
 glm::dvec3 ecefUp(const glm::dvec3& p) {
@@ -197,6 +243,7 @@ struct GeoTransform::Impl {
   PjPtr op;
   CrsDescription source, scene;
   double xyToMetre = 1.0, zToMetre = 1.0;
+  bool sameCrs = false, sameHorizontal = false;
   glm::dvec3 step{1.0};  // finite-difference steps, source units
 };
 
@@ -209,6 +256,9 @@ GeoTransform::GeoTransform(const std::string& sourceCrs, const std::string& scen
   m.source = describe(ctx, src.get(), sourceCrs);
   m.scene = describe(ctx, dst.get(), sceneCrs);
   const std::string pair = "from " + m.source.summary() + " to " + m.scene.summary();
+  m.sameCrs = equivalent(ctx, src.get(), dst.get());
+  m.sameHorizontal =
+      m.sameCrs || equivalent(ctx, horizontalPart(ctx, src.get()).get(), horizontalPart(ctx, dst.get()).get());
   if (m.scene.geographic)
     throw InputError("scene CRS '" + sceneCrs + "' is geographic (" + m.scene.horizontalUnit +
                      "): expected a projected, geocentric or local CRS with linear units");
@@ -272,6 +322,14 @@ GeoTransform& GeoTransform::operator=(GeoTransform&&) noexcept = default;
 const CrsDescription& GeoTransform::source() const { return impl_->source; }
 const CrsDescription& GeoTransform::scene() const { return impl_->scene; }
 double GeoTransform::zToMetre() const { return impl_->zToMetre; }
+bool GeoTransform::sameCrs() const { return impl_->sameCrs; }
+bool GeoTransform::sameHorizontalCrs() const { return impl_->sameHorizontal; }
+bool GeoTransform::transformsHeights() const {
+  return impl_->source.hasVerticalAxis() && impl_->scene.hasVerticalAxis();
+}
+bool GeoTransform::isIdentity() const {
+  return impl_->sameCrs && impl_->xyToMetre == 1.0 && impl_->zToMetre == 1.0;
+}
 
 glm::dvec3 GeoTransform::point(const glm::dvec3& p) const {
   PJ* op = impl_->op.get();
@@ -319,6 +377,23 @@ Camera GeoTransform::camera(const Camera& c, double* nonOrthogonality) const {
   out.center = point(c.center);
   out.camFromWorld = orthonormalize(c.camFromWorld * glm::inverse(j));
   return out;
+}
+
+std::string sourceCrsOf(const SourceGeoref& georef, const std::string& declared) {
+  if (georef.sceneCrs.empty()) return {};
+  if (!georef.crs.empty()) return georef.crs;
+  return declared.empty() ? georef.sceneCrs : declared;
+}
+
+GeoTransform sourceTransform(const SourceGeoref& georef, const std::string& sourceCrs, const std::string& file,
+                             Diagnostics& diag) {
+  try {
+    return GeoTransform(sourceCrs, georef.sceneCrs, diag);
+  } catch (const InputError& e) {
+    // Name where the CRS came from: scene.json's field when it overrides, else the file.
+    const bool fromField = !georef.crs.empty() && sourceCrs == georef.crs && !georef.field.empty();
+    throw InputError((fromField ? georef.field : file + ": CRS") + ": " + e.what());
+  }
 }
 
 }  // namespace hv

@@ -1,5 +1,5 @@
-// Georeferencing: bringing a source's coordinates (cameras, points) from its CRS into the scene
-// frame with PROJ, in double precision.
+// Georeferencing: bringing a source's coordinates (cameras, points, terrain, footprints, meshes)
+// from its CRS into the scene frame with PROJ, in double precision.
 //
 // The scene frame (owned here, repeated in docs/conventions.md) is the scene CRS with every linear
 // unit converted to metres: x, y scaled by the horizontal axes' unit (EPSG:2994's international
@@ -42,12 +42,19 @@ struct CrsDescription {
   bool geographic = false;
   bool geocentric = false;
   bool hasVerticalAxis() const { return verticalToMetre > 0.0; }
+  // The unit of a height given in this CRS, in metres: its vertical axis' unit, else (a 2D CRS)
+  // its horizontal linear unit, as for z above; 1 for a 2D geographic CRS (heights in metres).
+  double heightToMetre() const;
   // "RGF93 v1 / Lambert-93 (EPSG:2154), metre"
   std::string summary() const;
 };
 
 // Throws InputError when PROJ cannot read `definition` as a CRS.
 CrsDescription describeCrs(const std::string& definition);
+
+// Whether two definitions are the same CRS (PROJ's equivalence, axis order of geographic CRSs
+// aside); false when either cannot be read.
+bool equivalentCrs(const std::string& a, const std::string& b);
 
 // The local up direction (unit) of an ECEF point: the GRS80 ellipsoid normal.
 glm::dvec3 ecefUp(const glm::dvec3& ecef);
@@ -68,6 +75,17 @@ class GeoTransform {
   const CrsDescription& scene() const;
   // Units PROJ's output z is in (see the header comment), and its factor to metres.
   double zToMetre() const;
+  // The two CRSs are the same (PROJ's equivalence, axis order of geographic CRSs aside): only
+  // the units may change.
+  bool sameCrs() const;
+  // Their horizontal parts are the same (a compound CRS's horizontal CRS, a 3D CRS taken as 2D):
+  // x, y only change unit, so a raster needs no resampling.
+  bool sameHorizontalCrs() const;
+  // Heights go through PROJ, datums included, only when both CRSs have a vertical axis
+  // (compound, 3D or geocentric); otherwise a height is only converted to metres.
+  bool transformsHeights() const;
+  // Nothing changes: same CRS, every unit already metres.
+  bool isIdentity() const;
 
   // Throws InputError when PROJ cannot transform the point (outside the CRS's domain).
   glm::dvec3 point(const glm::dvec3& source) const;
@@ -82,5 +100,22 @@ class GeoTransform {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// How scene.json brings one source (terrain, buildings, mesh, points) into the scene frame.
+struct SourceGeoref {
+  std::string crs;       // scene.json `<source>.crs`: overrides what the file declares; empty: none
+  std::string sceneCrs;  // the scene CRS; empty: the source is taken as it is (a local frame)
+  std::string field;     // where `crs` comes from, for messages: "scene.json: terrain.crs"
+};
+
+// The CRS a source is in: `georef.crs` when given, else what the file declares (`declared`), else
+// (the file declares none) the scene CRS itself, whose units still become metres. Empty when the
+// scene has no CRS: nothing is transformed.
+std::string sourceCrsOf(const SourceGeoref& georef, const std::string& declared);
+
+// The transform of a source named `file` into the scene frame; an InputError names the file, or
+// `georef.field` when the CRS came from scene.json, and what was expected.
+GeoTransform sourceTransform(const SourceGeoref& georef, const std::string& sourceCrs, const std::string& file,
+                             Diagnostics& diag);
 
 }  // namespace hv

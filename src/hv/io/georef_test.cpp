@@ -2,6 +2,7 @@
 
 #include "hv/io/micmac_cameras.h"
 #include "hv/testing/data_dir.h"
+#include "hv/testing/geodesy.h"
 
 #include <gtest/gtest.h>
 
@@ -12,34 +13,11 @@
 namespace hv {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-// GRS80 (RGF93, NAD83(HARN)); WGS84's flattening differs by 1e-11 relative, 0.1 mm at the pole.
-constexpr double kA = 6378137.0, kF = 1.0 / 298.257222101;
-const double kE2 = kF * (2.0 - kF), kE = std::sqrt(kE2);
-
-// Independent closed forms (not PROJ): geodetic -> ECEF (e.g. Hofmann-Wellenhof, GNSS, eq. 2.5 ff.).
-glm::dvec3 ecefFromGeodetic(double latDeg, double lonDeg, double h) {
-  const double lat = latDeg * kDeg, lon = lonDeg * kDeg;
-  const double n = kA / std::sqrt(1.0 - kE2 * std::sin(lat) * std::sin(lat));
-  return {(n + h) * std::cos(lat) * std::cos(lon), (n + h) * std::cos(lat) * std::sin(lon),
-          (n * (1.0 - kE2) + h) * std::sin(lat)};
-}
-
-// Lambert conformal conic, two standard parallels, ellipsoidal (Snyder 1987, Map Projections — A
-// Working Manual, eqs. 15-1, 15-2, 15-7 to 15-10, 14-15).
-glm::dvec2 lcc2sp(double latDeg, double lonDeg, double lat1Deg, double lat2Deg, double lat0Deg, double lon0Deg,
-                  double e0, double n0) {
-  auto m = [](double lat) { return std::cos(lat) / std::sqrt(1.0 - kE2 * std::sin(lat) * std::sin(lat)); };
-  auto t = [](double lat) {
-    return std::tan(M_PI / 4.0 - lat / 2.0) / std::pow((1.0 - kE * std::sin(lat)) / (1.0 + kE * std::sin(lat)), kE / 2.0);
-  };
-  const double p1 = lat1Deg * kDeg, p2 = lat2Deg * kDeg, p0 = lat0Deg * kDeg, lat = latDeg * kDeg;
-  const double n = (std::log(m(p1)) - std::log(m(p2))) / (std::log(t(p1)) - std::log(t(p2)));
-  const double f = m(p1) / (n * std::pow(t(p1), n));
-  const double rho = kA * f * std::pow(t(lat), n), rho0 = kA * f * std::pow(t(p0), n);
-  const double theta = n * (lonDeg - lon0Deg) * kDeg;
-  return {e0 + rho * std::sin(theta), n0 + rho0 - rho * std::cos(theta)};
-}
+using testing::ecefFromGeodetic;
+using testing::kDeg;
+using testing::kE;
+using testing::kE2;
+using testing::lcc2sp;
 
 TEST(Georef, DescribesCrsNamesCodesAndUnits) {
   const CrsDescription l93 = describeCrs("EPSG:2154");

@@ -155,7 +155,7 @@ TEST_F(MicmacTest, SceneJsonGeoreferencesAndConvertsToNativeCameras) {
   ASSERT_EQ(scene.photos.size(), 1u) << (diag.errors.empty() ? "" : diag.errors[0]);
   EXPECT_TRUE(diag.ok());
   ASSERT_EQ(scene.sourceCrs.size(), 1u);
-  EXPECT_EQ(scene.sourceCrs[0].second, "EPSG:4978");
+  EXPECT_EQ(scene.sourceCrs[0].crs, "EPSG:4978");
   const Camera& cam = scene.photos[0].camera;
   // Lambert-93 easting/northing of a point near 44.5 N 6.8 E: around (1 000 km, 6 370 km).
   EXPECT_GT(cam.center.x, 900000.0);

@@ -65,6 +65,43 @@ void estimatePointNormals(PointCloud& cloud, const json& entry, const std::strin
   }
 }
 
+// scene.json `<key>.crs`: the CRS a source is given in, overriding what its file declares; the
+// scene CRS it goes into (empty: none, the source is taken as it is).
+SourceGeoref sourceGeoref(const json& doc, const char* key, const std::string& sceneCrs, const std::string& file) {
+  SourceGeoref g;
+  g.sceneCrs = sceneCrs;
+  g.field = file + ": " + key + ".crs";
+  const json& s = doc.at(key);
+  if (s.is_object() && s.contains("crs") && !s["crs"].is_null()) {
+    if (!s["crs"].is_string() || s["crs"].get<std::string>().empty())
+      throw InputError(g.field + ": expected a CRS string (e.g. \"EPSG:2154\", WKT, a PROJ string) or null");
+    g.crs = s["crs"].get<std::string>();
+  }
+  return g;
+}
+
+// For `histoview info`: the CRS a source was given in, if any; transformed when the scene has one.
+void recordSource(Scene& scene, const char* name, const std::string& crs) {
+  if (!crs.empty()) scene.sourceCrs.push_back({name, crs, !scene.crs.empty()});
+}
+
+// Without a scene CRS nothing is transformed: sources that declare different CRSs then do not
+// line up, which the user should hear once rather than discover in the render.
+void warnUnrelatedFrames(const Scene& scene, bool crsDeclared, const std::string& path, Diagnostics& diag) {
+  if (crsDeclared || scene.sourceCrs.size() < 2) return;
+  bool differ = false;
+  for (const Scene::SourceCrs& s : scene.sourceCrs) differ = differ || !equivalentCrs(s.crs, scene.sourceCrs[0].crs);
+  if (!differ) return;
+  std::string list;
+  for (const Scene::SourceCrs& s : scene.sourceCrs) {
+    std::string crs = s.crs.size() > 40 ? s.crs.substr(0, 37) + "..." : s.crs;
+    list += (list.empty() ? "" : ", ") + s.source + " " + crs;
+  }
+  diag.warn(inputMessage(path, "crs",
+                         "none declared, so the sources are taken as they are, yet they declare different CRSs (" +
+                             list + "); declare the scene's crs to bring them into one frame"));
+}
+
 // Brings the photographs' cameras from `cameraCrs` into the scene frame; a camera PROJ cannot
 // transform is reported and left out. A geocentric scene frame (MicMac's ECEF without a scene CRS)
 // gets the local vertical at the cameras as its `up` unless scene.json declares one.
@@ -104,13 +141,10 @@ void georeferenceCameras(Scene& scene, const std::string& cameraCrs, bool upDecl
 // points.crs) or, when it declares none, from the scene CRS, whose units still become metres
 // (the Autzen sample is in international feet). Normals turn with the local Jacobian at the
 // cloud's centre.
-void georeferencePoints(PointCloud& cloud, const std::string& sceneCrs, const std::string& file, Diagnostics& diag) {
+void georeferencePoints(PointCloud& cloud, const SourceGeoref& georef, const std::string& file, Diagnostics& diag) {
   if (cloud.empty()) return;
-  const std::string source = cloud.crs.empty() ? sceneCrs : cloud.crs;
-  const GeoTransform transform(source, sceneCrs, diag);
-  const bool sameCrs = source == sceneCrs;
-  const bool metres = transform.source().horizontalToMetre == 1.0 && transform.zToMetre() == 1.0;
-  if (sameCrs && metres) return;
+  const GeoTransform transform = sourceTransform(georef, sourceCrsOf(georef, cloud.crs), file, diag);
+  if (transform.isIdentity()) return;
   const glm::dvec3 centre = cloud.bounds().center();
   glm::dmat3 turn = transform.jacobian(centre);
   transform.points(cloud.positions);
@@ -159,12 +193,18 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     scene.up = glm::normalize(scene.up);
   }
 
+  const bool crsDeclared = !scene.crs.empty();
+
+  // Terrain, buildings, mesh and points: each from its own CRS (`<source>.crs`, else the file's)
+  // into the scene frame (hv/io/georef.h); without a scene CRS, as they are.
   Heightfield dtm;
   if (doc.contains("terrain")) {
     try {
       const std::string p = sourcePath(doc, "terrain", dir, path);
-      dtm = readHeightfield(p);
+      GeoreferencedHeightfield read = readHeightfield(p, sourceGeoref(doc, "terrain", scene.crs, path), diag);
+      dtm = std::move(read.field);
       scene.terrain = dtm.toMesh();
+      recordSource(scene, "terrain", read.sourceCrs);
       log::debug("terrain: " + p + ": " + std::to_string(dtm.cols) + "x" + std::to_string(dtm.rows));
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (terrain left out)");
@@ -180,7 +220,9 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       fields.top = optionalString(b, "top", path + ": buildings");
       fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
       fields.validTo = optionalString(b, "valid_to", path + ": buildings");
-      const auto footprints = readFootprints(p, fields, diag);
+      GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
+      const std::vector<Footprint>& footprints = read.footprints;
+      recordSource(scene, "buildings", read.sourceCrs);
       scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
       for (const Footprint& f : footprints) {
         DateInterval valid;  // open-ended unless the attributes say otherwise
@@ -203,7 +245,16 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   }
   if (doc.contains("mesh")) {
     try {
-      scene.mesh = readMesh(sourcePath(doc, "mesh", dir, path));
+      const std::string p = sourcePath(doc, "mesh", dir, path);
+      const SourceGeoref georef = sourceGeoref(doc, "mesh", scene.crs, path);
+      Mesh mesh = readMesh(p);
+      // A mesh file seldom declares a CRS: only mesh.crs moves it (like points, vertex by vertex).
+      if (!georef.crs.empty() && !scene.crs.empty()) {
+        const GeoTransform transform = sourceTransform(georef, georef.crs, p, diag);
+        if (!transform.isIdentity()) transform.points(mesh.positions);
+      }
+      recordSource(scene, "mesh", georef.crs);
+      scene.mesh = std::move(mesh);
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (mesh left out)");
     }
@@ -212,12 +263,11 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     try {
       const std::string p = sourcePath(doc, "points", dir, path);
       const auto t0 = std::chrono::steady_clock::now();
+      const SourceGeoref georef = sourceGeoref(doc, "points", scene.crs, path);
       scene.points = readPointFile(p);
-      const json& crs = doc["points"].contains("crs") ? doc["points"]["crs"] : json();
-      if (!crs.is_null() && !crs.is_string())
-        throw InputError(path + ": points.crs: expected a CRS string (e.g. \"EPSG:2154\") or null");
-      if (crs.is_string()) scene.points.crs = crs.get<std::string>();  // overrides the file's
-      if (!scene.crs.empty()) georeferencePoints(scene.points, scene.crs, p, diag);
+      if (!georef.crs.empty()) scene.points.crs = georef.crs;  // overrides the file's
+      if (!scene.crs.empty()) georeferencePoints(scene.points, georef, p, diag);
+      recordSource(scene, "points", scene.crs.empty() ? scene.points.crs : sourceCrsOf(georef, scene.points.crs));
       estimatePointNormals(scene.points, doc["points"], path);
       organizeChunks(scene.points);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -266,7 +316,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
                                     : format == "micmac" ? std::string("EPSG:4978")
                                                          : std::string();
       if (!cameraCrs.empty()) {
-        scene.sourceCrs.emplace_back("cameras", cameraCrs);
+        scene.sourceCrs.push_back({"cameras", cameraCrs, true});
         if (scene.crs.empty()) scene.crs = cameraCrs;
         georeferenceCameras(scene, cameraCrs, doc.contains("up"), path, diag);
       }
@@ -275,6 +325,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     }
   }
 
+  warnUnrelatedFrames(scene, crsDeclared, path, diag);
 
   // Keys this version knows; anything else is reported rather than silently ignored.
   static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "points", "cameras"};

@@ -20,7 +20,7 @@ struct Heightfield {
   double originX = 0.0, originY = 0.0;  // corner of cell (0, 0) (GDAL geotransform [0], [3])
   double cellX = 1.0, cellY = -1.0;     // GDAL geotransform [1], [5]
   std::vector<float> z;                 // rows * cols, row-major; NaN = no data
-  std::string crs;                      // WKT or "EPSG:n" as read; informative
+  std::string crs;                      // WKT or "EPSG:n" of x, y: as read, or the scene CRS once georeferenced; informative
 
   bool empty() const { return z.empty(); }
   float at(int i, int j) const { return z[size_t(j) * cols + i]; }

@@ -24,16 +24,21 @@ struct Photo {
 struct Scene {
   std::string path;        // scene.json
   std::string crs;         // the scene CRS: the world frame is it with linear units in metres (hv/io/georef.h)
-  // The CRS each source was given in ("cameras" -> "EPSG:4978"), for `histoview info`; a source
-  // absent here is in the scene frame as it is.
-  std::vector<std::pair<std::string, std::string>> sourceCrs;
+  // The CRS each source was given in, for `histoview info`; a source absent here declared none
+  // and is in the scene frame as it is.
+  struct SourceCrs {
+    std::string source;       // "terrain", "buildings", "mesh", "points", "cameras"
+    std::string crs;          // as given: scene.json's `<source>.crs`, else the file's
+    bool transformed = true;  // false: the scene has no CRS, so the source was taken as it is
+  };
+  std::vector<SourceCrs> sourceCrs;
   glm::dvec3 origin{0.0};  // render origin (world)
   glm::dvec3 up{0.0, 0.0, 1.0};
   Mesh terrain;
   Mesh buildings;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
-  // scene.json "points" (empty: none), organised into chunks (hv/points/chunks.h) at load. In
-  // its source CRS (points.crs, or scene.json's override), which is not transformed here.
+  // scene.json "points" (empty: none), organised into chunks (hv/points/chunks.h) at load, in the
+  // scene frame; `points.crs` keeps the CRS they were given in (the file's, or points.crs).
   PointCloud points;
   // When each building existed, indexed by the buildings mesh's triangle tags (open-ended by
   // default). A photograph does not texture a building that did not exist at its date.

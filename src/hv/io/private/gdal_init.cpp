@@ -1,6 +1,7 @@
 #include "hv/io/private/gdal_init.h"
 
 #include <gdal.h>
+#include <ogr_spatialref.h>
 
 #include <mutex>
 
@@ -14,6 +15,19 @@ void ensureRegistered() {
 std::string lastError(const std::string& fallback) {
   const char* message = CPLGetLastErrorMsg();
   return (message && *message) ? std::string(message) : fallback;
+}
+
+std::string crsDefinition(const OGRSpatialReference* srs) {
+  if (!srs) return {};
+  const char* authority = srs->GetAuthorityName(nullptr);
+  const char* code = srs->GetAuthorityCode(nullptr);
+  if (authority && code && std::string(authority) == "EPSG") return std::string("EPSG:") + code;
+  char* wkt = nullptr;
+  std::string out;
+  const char* const options[] = {"FORMAT=WKT2_2019", nullptr};
+  if (srs->exportToWkt(&wkt, options) == OGRERR_NONE && wkt) out = wkt;
+  CPLFree(wkt);
+  return out;
 }
 
 }  // namespace hv::gdal

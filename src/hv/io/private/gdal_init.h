@@ -6,6 +6,8 @@
 
 #include <string>
 
+class OGRSpatialReference;
+
 namespace hv::gdal {
 
 // Registers GDAL's drivers once per process, whichever thread asks first (std::call_once).
@@ -26,5 +28,10 @@ class QuietErrors {
 
 // GDAL's last error message on this thread, or `fallback` when it left none.
 std::string lastError(const std::string& fallback);
+
+// A CRS as hv::GeoTransform takes it: "EPSG:n" when GDAL identifies an EPSG CRS (short, and what
+// users write), else its WKT2 (which PROJ reads without loss, compound CRSs included); empty for
+// none.
+std::string crsDefinition(const OGRSpatialReference* srs);
 
 }  // namespace hv::gdal

@@ -1,4 +1,5 @@
 #include <gdal_priv.h>
+#include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 
 #include <cerrno>
@@ -98,10 +99,70 @@ size_t distinctPoints(const std::vector<glm::dvec2>& ring) {
   return n;
 }
 
+// Whether the layer's coordinates can be in `crs` when that is geographic: longitudes within
+// ±360 degrees, latitudes within ±90. GeoJSON files written before RFC 7946 often hold projected
+// coordinates without a `crs` member, which GDAL then reports as WGS 84.
+bool degreesFit(OGRLayer* layer, const std::string& crs) {
+  if (crs.empty()) return true;
+  OGRSpatialReference srs;
+  if (srs.SetFromUserInput(crs.c_str(), OGRSpatialReference::SET_FROM_USER_INPUT_LIMITATIONS_get()) != OGRERR_NONE ||
+      !srs.IsGeographic())
+    return true;
+  OGREnvelope extent;
+  if (layer->GetExtent(&extent, TRUE) != OGRERR_NONE) return true;
+  return std::abs(extent.MinX) <= 360.0 && std::abs(extent.MaxX) <= 360.0 && std::abs(extent.MinY) <= 90.0 &&
+         std::abs(extent.MaxY) <= 90.0;
+}
+
+// A layer's footprints (in its CRS) into the scene frame; see footprints.h. Footprints PROJ cannot
+// transform are dropped with a warning.
+void georeferenceLayer(std::vector<Footprint>& footprints, size_t first, const GeoTransform& t,
+                       const std::string& path, Diagnostics& diag) {
+  if (t.isIdentity()) return;
+  const double heightUnit = t.source().heightToMetre();
+  const bool throughProj = t.transformsHeights() && !t.sameCrs();
+  bool levelsAsTheyAre = false;
+  size_t kept = first;
+  for (size_t k = first; k < footprints.size(); ++k) {
+    Footprint& fp = footprints[k];
+    try {
+      const glm::dvec2 anchor = fp.rings.at(0).at(0);  // source coordinates, for absolute heights
+      for (auto& ring : fp.rings)
+        for (glm::dvec2& p : ring) p = glm::dvec2(t.point({p.x, p.y, 0.0}));
+      if (fp.height) *fp.height *= heightUnit;
+      for (std::optional<double>* level : {&fp.base, &fp.top}) {
+        if (!*level) continue;
+        if (throughProj) {
+          **level = t.point({anchor.x, anchor.y, **level}).z;
+        } else {
+          **level *= heightUnit;
+          levelsAsTheyAre = levelsAsTheyAre || !t.sameCrs();
+        }
+      }
+    } catch (const InputError& e) {
+      diag.warn(inputMessage(path, "feature " + fp.id + ": geometry", std::string(e.what()) + "; skipped"));
+      continue;
+    }
+    if (kept != k) footprints[kept] = std::move(fp);
+    ++kept;
+  }
+  footprints.resize(kept);
+  if (levelsAsTheyAre)
+    diag.warn(inputMessage(path, "base/top",
+                           "absolute elevations taken as they are, only converted to metres: " + t.source().summary() +
+                               " and the scene's " + t.scene().summary() +
+                               " do not both have a vertical axis; declare compound CRSs (e.g. EPSG:2154+5720) to "
+                               "transform heights between vertical datums"));
+}
+
 }  // namespace
 
-std::vector<Footprint> readFootprints(const std::string& path, const FootprintFields& fields,
-                                      Diagnostics& diag) {
+std::vector<Footprint> readFootprints(const std::string& path, const FootprintFields& fields, Diagnostics& diag) {
+  return readFootprints(path, fields, SourceGeoref{}, diag).footprints;  // no scene CRS: as they are
+}
+
+GeoreferencedFootprints readFootprints(const std::string& path, const FootprintFields& fields,
+                                       const SourceGeoref& georef, Diagnostics& diag) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
   DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
@@ -109,10 +170,32 @@ std::vector<Footprint> readFootprints(const std::string& path, const FootprintFi
     throw InputError(
         inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
 
-  std::vector<Footprint> out;
+  GeoreferencedFootprints result;
+  std::vector<Footprint>& out = result.footprints;
   const int layerCount = ds->GetLayerCount();
   for (int l = 0; l < layerCount; ++l) {
     OGRLayer* layer = ds->GetLayer(l);
+    const size_t first = out.size();
+    // The CRS first, so that a bad one is reported before any feature.
+    std::string declared = georef.crs.empty() ? gdal::crsDefinition(layer->GetSpatialRef()) : georef.crs;
+    if (georef.crs.empty() && !degreesFit(layer, declared)) {
+      if (!georef.sceneCrs.empty())
+        diag.warn(inputMessage(path, "CRS",
+                               "the source says (or, GeoJSON without `crs`, RFC 7946 implies) a geographic CRS, but "
+                               "its coordinates are not longitudes and latitudes: taken in the scene CRS; give "
+                               "buildings.crs if that is wrong"));
+      declared.clear();  // no CRS, then
+    }
+    const std::string crs = sourceCrsOf(georef, declared);
+    if (result.sourceCrs.empty()) result.sourceCrs = crs.empty() ? declared : crs;
+    std::optional<GeoTransform> transform;
+    if (!crs.empty()) {
+      transform.emplace(sourceTransform(georef, crs, path, diag));
+      if (transform->scene().geocentric || transform->source().geocentric)
+        throw InputError(inputMessage(path, "CRS",
+                                      "LOD1 footprints and the scene need a CRS with a vertical z (projected or "
+                                      "compound), not a geocentric one"));
+    }
     // With several layers, feature ids are only unique within their layer.
     const std::string prefix = layerCount > 1 ? std::string(layer->GetName()) + ":" : std::string();
     layer->ResetReading();
@@ -189,8 +272,9 @@ std::vector<Footprint> readFootprints(const std::string& path, const FootprintFi
         out.push_back(std::move(fp));
       }
     }
+    if (transform) georeferenceLayer(out, first, *transform, path, diag);
   }
-  return out;
+  return result;
 }
 
 }  // namespace hv
