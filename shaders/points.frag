@@ -105,7 +105,9 @@ void main() {
   // Only the sprite that won the depth pass shades this pixel.
   if (abs(texelFetch(u_viewDepth, ivec2(gl_FragCoord.xy), 0).r - stored) > u_depthTolerance) discard;
   float np = dot(v_nPrime, p);
-  vec3 own = v_color.rgb * hv_eyeDome(z);
+  // Against its neighbours as the depth pass stored them (points pulled forward by the hybrid
+  // offset alike), not against its own unshifted depth.
+  vec3 own = v_color.rgb * hv_eyeDome(hv_linearDepth(stored));
   if (v_color.a < 0.5) {  // transient: never textured
     o_color = vec4(own, 0.5);
     return;

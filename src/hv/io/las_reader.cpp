@@ -1,5 +1,7 @@
 #include "hv/io/las_reader.h"
 
+#include "hv/util/log.h"
+
 #include "hv/io/private/byte_io.h"
 #include "hv/io/private/las_layout.h"
 #include "hv/util/diagnostics.h"
@@ -103,10 +105,23 @@ class LasParser {
                         bytes::load<std::uint16_t>(p + 4)};
       }
     }
+    if (hasRgb) widenEightBitColours(cloud);
     return cloud;
   }
 
  private:
+  // LAS colours are 16-bit (R15 §2.6: "normalized to 16 bits"), yet many writers store 8-bit
+  // values in them (PDAL's Autzen sample: all under 256), which would show nearly black. As
+  // Potree and CloudCompare do, a file whose every channel is under 256 is taken as 8-bit and
+  // scaled by 257 (255 -> 65535), the convention of hv::PointCloud::rgb.
+  void widenEightBitColours(PointCloud& cloud) const {
+    std::uint16_t top = 0;
+    for (const glm::u16vec3& c : cloud.rgb) top = std::max({top, c.r, c.g, c.b});
+    if (top == 0 || top > 255) return;
+    for (glm::u16vec3& c : cloud.rgb) c *= std::uint16_t(257);
+    log::info(name_ + ": RGB values all under 256, taken as 8-bit colours");
+  }
+
   [[noreturn]] void fail(const std::string& field, const std::string& message) const {
     throw InputError(inputMessage(name_, field, message));
   }

@@ -74,6 +74,19 @@ TEST(LasReader, Format3ScaleOffsetRgbAndClassFlags) {
   EXPECT_TRUE(c.crs.empty());
 }
 
+// Colours written as 8-bit values in the 16-bit fields (every channel under 256) are widened
+// ×257; a file with one channel above 255 is left as it is (the test above).
+TEST(LasReader, EightBitColoursInSixteenBitFieldsAreWidened) {
+  Bytes f = format3File();
+  for (int i = 0; i < 2; ++i) {
+    const std::size_t r = 227 + 34 * std::size_t(i);
+    f.at<std::uint16_t>(r + 28, 10), f.at<std::uint16_t>(r + 30, 0), f.at<std::uint16_t>(r + 32, std::uint16_t(255 - i));
+  }
+  const PointCloud c = parse(f.b);
+  EXPECT_EQ(c.rgb[0], glm::u16vec3(2570, 0, 65535));
+  EXPECT_EQ(c.rgb[1], glm::u16vec3(2570, 0, 254 * 257));
+}
+
 TEST(LasReader, Las14Format6ExtendedClassCount64ExtraBytesAndWkt) {
   const std::string wkt = "PROJCS[\"test\"]";
   const std::size_t vlr = 375, vlrLen = wkt.size() + 1, points = vlr + 54 + vlrLen, rec = 30 + 4;  // 4 extra bytes

@@ -12,9 +12,11 @@
 #include "hv/scene/raycast.h"
 #include "hv/image/png_write.h"
 #include "hv/render/testing/gl_test_support.h"
+#include "hv/testing/data_dir.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -443,6 +445,49 @@ TEST_F(PointsGlTest, DemoCityPointsImproveWhereTheMeshLacksDetail) {
             << " dB, with points " << sumPoints / n << " dB; whole views: " << allMesh / n << " / "
             << allPoints / n << " dB\n";
   EXPECT_GT(sumPoints / n, sumMesh / n);
+}
+
+// Real lidar (../shared/data: AHN3 Delft with its footprints and DTM, PDAL's Autzen with RGB;
+// neither has photographs, so the points show their own colour with eye-dome lighting): the
+// whole scene loads (read, georeference, normals, chunks) in seconds and renders at 1280x720.
+// Load and frame times are printed for docs/performance.md (not asserted).
+TEST_F(PointsGlTest, RealLidarLoadsAndRenders) {
+  bool any = false;
+  for (const char* name : {"delft", "autzen"}) {
+    const std::string dir = hv::testing::dataset(name);
+    if (dir.empty()) continue;
+    any = true;
+    const auto t0 = std::chrono::steady_clock::now();
+    Diagnostics diag;
+    const Scene scene = loadScene(dir + "/scene.json", diag);
+    const auto t1 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(diag.ok()) << name;
+    ASSERT_FALSE(scene.points.empty()) << name;
+    // An oblique view over the middle of the data, from the south, 300 m away.
+    const Aabb b = scene.points.bounds();
+    const glm::dvec3 target = b.center();
+    const Camera view = lookAtCamera("v", target + glm::dvec3(0.0, -250.0, 160.0), target, 1280, 720, 1100.0);
+    RenderSettings st;
+    st.points.enabled = true;
+    Renderer r(scene, st, diag);
+    const auto t2 = std::chrono::steady_clock::now();
+    const Image8 first = r.render(view).rgba;
+    const auto t3 = std::chrono::steady_clock::now();
+    r.render(view);
+    const auto t4 = std::chrono::steady_clock::now();
+    auto ms = [](auto a, auto c) { return std::chrono::duration<double, std::milli>(c - a).count(); };
+    // Pixels the points drew: untextured points have alpha 0 and their own (non-black) colour.
+    std::size_t drawn = 0;
+    for (size_t i = 0; i < first.data.size(); i += 4)
+      drawn += first.data[i] + first.data[i + 1] + first.data[i + 2] > 0;
+    std::printf("[ lidar ] %s: %zu points, scene load %.0f ms, renderer setup %.0f ms, first frame %.0f ms, "
+                "next frame %.0f ms, %llu sprites, %.0f %% of the pixels drawn\n",
+                name, scene.points.size(), ms(t0, t1), ms(t1, t2), ms(t2, t3), ms(t3, t4),
+                static_cast<unsigned long long>(r.stats().pointsDrawn), 100.0 * double(drawn) / (1280.0 * 720.0));
+    EXPECT_GT(r.stats().pointsDrawn, scene.points.size() / 2) << name;
+    EXPECT_GT(drawn, std::size_t(1280 * 720 / 10)) << name;
+  }
+  if (!any) GTEST_SKIP() << "no delft/ or autzen/ in " << hv::testing::dataDir() << " (set HISTOVIEW_DATA)";
 }
 
 }  // namespace
