@@ -9,14 +9,30 @@ precision highp float;
 uniform float u_near;
 uniform float u_far;
 uniform vec2 u_date;  // the photograph's date interval, days
+// Hybrid rendering (2016 §4.2): in a photograph's depth map that also holds points, the mesh is
+// stored as if moved u_pushBack (scene units) back along its normal, so that points up to that far
+// behind the LOD1 surface (windows, doors, a road under a coarse DTM) are not shadowed by it. Along
+// the camera's ray that is u_pushBack / cos(theta), theta between the ray and the normal (cos
+// clamped at 0.1, the shadow bias's clamp). 0: the true depth.
+uniform float u_pushBack;
+uniform vec3 u_center;  // the camera centre, render frame
+in vec3 v_position;
 flat in vec2 v_validity;
 flat in float v_building;
 #ifdef HV_WRITE_BUILDING
 out vec4 o_building;
 #endif
 void main() {
+  // Derivatives first, in uniform control flow.
+  vec3 n = cross(dFdx(v_position), dFdy(v_position));
   if (v_validity.y < u_date.x || v_validity.x > u_date.y) discard;
-  gl_FragDepth = clamp((1.0 / gl_FragCoord.w - u_near) / (u_far - u_near), 0.0, 1.0);
+  float push = 0.0;
+  if (u_pushBack > 0.0) {
+    float len = length(n);
+    float c = len > 0.0 ? abs(dot(n / len, normalize(v_position - u_center))) : 1.0;
+    push = u_pushBack / max(c, 0.1);
+  }
+  gl_FragDepth = clamp((1.0 / gl_FragCoord.w + push - u_near) / (u_far - u_near), 0.0, 1.0);
 #ifdef HV_WRITE_BUILDING
   // 24-bit index in r, g, b; exact in RGBA8 for up to 16 million buildings.
   float id = v_building;

@@ -8,7 +8,9 @@ layout(location = 2) in float a_building;  // building index + 1 (0: terrain)
 uniform mat4 u_clipFromRender;  // hv::ibr::clipFromRender (src/hv/ibr/frame_plan.cpp)
 flat out vec2 v_validity;
 flat out float v_building;
+out vec3 v_position;  // render frame, for the surface normal (depth.frag's push-back)
 void main() {
+  v_position = a_position;
   v_validity = a_validity;
   v_building = a_building;
   gl_Position = u_clipFromRender * vec4(a_position, 1.0);

@@ -42,6 +42,7 @@ uniform vec3 u_background;
 // backgroundDistance); from a photograph's own centre it shows the photograph whatever the radius.
 uniform float u_sphereRadius;
 uniform bool u_points;                     // the point pass ran (issue 4)
+uniform float u_meshPushBack;              // hybrid: the mesh's push-back in the depth maps (depth.frag)
 uniform highp sampler2D u_pointColor;      // its colour, per view-depth texel (points.frag)
 
 out vec4 o_color;
@@ -91,7 +92,12 @@ bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out 
 bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P) {
   if (stored >= 1.0) return false;  // the photograph saw no geometry there: nothing occludes
   float zMap = mix(im.near, im.far, stored);
-  return z > zMap + hv_shadowBias(im, z, normal, normalize(P - im.C));
+  vec3 toP = normalize(P - im.C);
+  // u_meshPushBack: the mesh counts as moved that much back along its normal (hybrid rendering,
+  // depth.frag), so only what stands more than that in front of it (not the points sampling it)
+  // shadows it; along the ray that is u_meshPushBack / cos(theta).
+  float push = u_meshPushBack > 0.0 ? u_meshPushBack / max(abs(dot(normal, toP)), 0.1) : 0.0;
+  return z > zMap + push + hv_shadowBias(im, z, normal, toP);
 }
 
 // Image `i` of the frame. Twin of the loop body of hv::ibr::referenceBlend.

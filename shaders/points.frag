@@ -31,9 +31,17 @@ bool hv_spriteDepth(vec3 p, out float z, out float stored) {
   stored = 1.0;
   if (np <= 0.0) return false;
   z = 1.0 / np;
-  vec3 d = z * (u_Minv * p) - v_PC;  // X - P
+  vec3 ray = u_Minv * p;
+  vec3 d = z * ray - v_PC;  // X - P
   if (dot(d, d) > u_radius * u_radius) return false;
-  stored = clamp((z - u_depthOffset - u_near) / (u_far - u_near), 0.0, 1.0);
+  // Hybrid rendering: the point drawn as if moved u_depthOffset towards the camera along its
+  // normal (the mesh pushed back), u_depthOffset / cos(theta) along the ray (as depth.frag).
+  float push = 0.0;
+  if (u_depthOffset > 0.0) {
+    vec3 normal = transpose(u_Minv) * v_nPrime;  // parallel to N (render frame)
+    push = u_depthOffset / max(abs(dot(normalize(normal), normalize(ray))), 0.1);
+  }
+  stored = clamp((z - push - u_near) / (u_far - u_near), 0.0, 1.0);
   return true;
 }
 

@@ -74,7 +74,7 @@ void main() {
   float dist = length(toView);
   vec3 N = toView / dist;
   float len = length(a_normal);
-  if (len > 0.0 && abs(dot(a_normal, toView)) >= 0.1 * len * dist) N = a_normal / len;
+  if (len > 0.0 && abs(dot(a_normal, toView)) >= 0.002 * len * dist) N = a_normal / len;
   v_nPrime = u_MinvT * N / dot(N, PC);
   v_PC = PC;
   v_color = vec4(a_color.rgb, kept ? 1.0 : 0.0);

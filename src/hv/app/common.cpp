@@ -104,7 +104,9 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("--epsilon", o.epsilon,
                  "epsilon filter: a point is textured by an image when within this of the model's depth there, "
                  "scene units (default: 2e-3 of the scene extent)");
-  cmd.add_option("--mesh-offset", o.meshOffset, "hybrid: the mesh pushed back by this against the points, metres")
+  cmd.add_option("--mesh-offset", o.meshOffset,
+                 "hybrid: the mesh pushed back by this along its normal behind the points, scene units "
+                 "(default: 6e-4 of the scene extent)")
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--point-color", o.pointColor, "untextured points: auto, rgb, intensity or class")
       ->check(CLI::IsMember({"auto", "rgb", "intensity", "class"}));

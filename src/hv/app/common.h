@@ -54,7 +54,7 @@ struct ViewOptions {
   bool noPointsInDepthMaps = false;
   bool hideTransient = false;
   double epsilon = -1.0;
-  double meshOffset = 0.0;
+  double meshOffset = -1.0;  // < 0: the renderer's default
   std::string pointColor = "auto";       // auto | rgb | intensity | class
   bool noEyeDome = false;
   // Live switches of the viewer, also on the command line (render::LayerSettings, DebugSettings).

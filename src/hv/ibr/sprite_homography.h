@@ -42,7 +42,7 @@ glm::dmat3 targetCameraMatrix(const Camera& camera, const PinholeFrustum& frustu
 
 // Below this |cos| between the normal and the viewing ray, a point's own normal is replaced by the
 // front-facing guess: a plane seen edge-on has an unbounded homography over the sprite.
-inline constexpr double kGrazingCos = 0.1;
+inline constexpr double kGrazingCos = 0.02;
 
 // The normal used for a point at P seen from C: its own (when given, non-zero and not grazing),
 // else the front-facing guess C - P (the plane through P perpendicular to the viewing ray).

@@ -3,6 +3,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/colmap_cameras.h"
 #include "hv/io/footprints.h"
+#include "hv/points/point_normals.h"
 #include "hv/io/georef.h"
 #include "hv/io/itowns_cameras.h"
 #include "hv/io/las_reader.h"
@@ -48,6 +49,20 @@ glm::dvec3 vec3Field(const json& doc, const char* key, const std::string& file) 
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     throw InputError(file + ": " + key + ": expected [x, y, z]");
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+// points.normals: "auto" (the file's, else estimated), "estimate" (always), "facing" (the file's,
+// else camera-facing sprites). Estimated normals: hv/points/point_normals.h.
+void estimatePointNormals(PointCloud& cloud, const json& entry, const std::string& path) {
+  const json mode = entry.contains("normals") ? entry["normals"] : json("auto");
+  if (!mode.is_string() || (mode != "auto" && mode != "estimate" && mode != "facing"))
+    throw InputError(path + ": points.normals: expected \"auto\", \"estimate\" or \"facing\"");
+  if (mode == "estimate" || (mode == "auto" && !cloud.fields().normals)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    estimateNormals(cloud);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    log::debug("points: normals estimated for " + std::to_string(cloud.size()) + " points in " + std::to_string(s) + " s");
+  }
 }
 
 // Brings the photographs' cameras from `cameraCrs` into the scene frame; a camera PROJ cannot
@@ -203,6 +218,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
         throw InputError(path + ": points.crs: expected a CRS string (e.g. \"EPSG:2154\") or null");
       if (crs.is_string()) scene.points.crs = crs.get<std::string>();  // overrides the file's
       if (!scene.crs.empty()) georeferencePoints(scene.points, scene.crs, p, diag);
+      estimatePointNormals(scene.points, doc["points"], path);
       organizeChunks(scene.points);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       log::debug("points: " + p + ": " + std::to_string(scene.points.size()) + " points, " +

@@ -103,6 +103,7 @@ struct DepthMapInputs {
   std::uint64_t pointBudget = 0;
   double pointRadius = 0.0, pointRadiusScale = 0.0;
   std::vector<int> keptClasses;
+  double meshPushBack = 0.0;  // the mesh pushed back behind the points (hybrid mesh offset)
   bool operator==(const DepthMapInputs&) const = default;
 };
 
@@ -190,7 +191,7 @@ struct Renderer::Impl {
   RenderStats stats;
 
   // The point pass (issue 4).
-  bool pointsOn = false;        // the scene has points and settings.points.enabled (array binding)
+  bool pointsOn = false;        // the scene's points are uploaded (array binding; pointsActive: and enabled)
   bool classify = false;        // the classification filter applies
   bool epsilonTest = false;     // the epsilon filter applies
   bool pointsInDepthMaps = false;
@@ -435,6 +436,15 @@ struct Renderer::Impl {
                (mat3K > 0 ? ", mat3 form K = " + std::to_string(mat3K) : ", N' form"));
   }
 
+  // Hybrid rendering: how much farther the mesh counts in the photographs' depth maps (depth.frag)
+  // and in the mesh's shadow test (ibr_shade.frag); only where points share the depth maps.
+  double meshPushBack() const { return pointsActive() && pointsInDepthMaps ? meshOffset() : 0.0; }
+
+  double meshOffset() const {
+    if (settings.points.meshOffset >= 0.0) return settings.points.meshOffset;
+    return 6e-4 * glm::length(bounds.size());  // the data's own scale (DESIGN.md §1)
+  }
+
   double pointEpsilon() const {
     if (settings.points.epsilon >= 0.0) return settings.points.epsilon;
     return 2e-3 * glm::length(bounds.size());  // the data's own scale (DESIGN.md §1)
@@ -516,7 +526,7 @@ struct Renderer::Impl {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    stats.pointsDrawn = drawPoints(pointDepthProgram, view, vf, depthSz, ps.hideTransient, ps.meshOffset);
+    stats.pointsDrawn = drawPoints(pointDepthProgram, view, vf, depthSz, ps.hideTransient, meshOffset());
     glDisable(GL_DEPTH_TEST);
 
     if (depthSz != pointColorSize) {
@@ -567,7 +577,7 @@ struct Renderer::Impl {
     // Both passes compute the same float expression; the tolerance only absorbs compilers that
     // evaluate it differently in the two programs (1e-6 of the depth range).
     glUniform1f(p.uniform("u_depthTolerance"), 1e-6f);
-    drawPoints(p, view, vf, depthSz, ps.hideTransient, ps.meshOffset);
+    drawPoints(p, view, vf, depthSz, ps.hideTransient, meshOffset());
     checkGlError("point passes");
   }
 
@@ -703,8 +713,10 @@ struct Renderer::Impl {
   }
 
   void drawDepth(const gpu::Program& program, const glm::dmat4& clip, double near, double far,
-                 const DateInterval& date) {
+                 const DateInterval& date, double pushBack = 0.0, glm::dvec3 centerRender = glm::dvec3(0.0)) {
     program.use();
+    glUniform1f(program.uniform("u_pushBack"), float(pushBack));
+    glUniform3f(program.uniform("u_center"), float(centerRender.x), float(centerRender.y), float(centerRender.z));
     uploadMat4(program.uniform("u_clipFromRender"), clip);
     glUniform1f(program.uniform("u_near"), float(near));
     glUniform1f(program.uniform("u_far"), float(far));
@@ -753,7 +765,8 @@ struct Renderer::Impl {
     glReadBuffer(GL_NONE);
     gpu::checkFramebuffer("depth map");
     glViewport(0, 0, depthSize, depthSize);
-    drawDepth(depthProgram, ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo));
+    drawDepth(depthProgram, ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo),
+              meshPushBack(), cam.center - scene.origin);
     if (pointsActive() && pointsInDepthMaps) {
       // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
       glEnable(GL_DEPTH_TEST);
@@ -877,6 +890,7 @@ struct Renderer::Impl {
       in.pointRadius = ps.radius;
       in.pointRadiusScale = ps.radiusScale;
       in.keptClasses = ps.keptClasses;
+      in.meshPushBack = meshPushBack();
     }
     return in;
   }
@@ -1219,6 +1233,7 @@ struct Renderer::Impl {
     // Without points the sampler points at a unit of the same type that is never read.
     glUniform1i(p.uniform("u_pointColor"), pointsThisFrame ? kUnitPointColor : kUnitLookup);
     glUniform1i(p.uniform("u_points"), pointsThisFrame ? 1 : 0);
+    glUniform1f(p.uniform("u_meshPushBack"), float(meshPushBack()));
     glUniform1i(p.uniform("u_validity"), kUnitValidity);
     glUniform1i(p.uniform("u_validityWidth"), validityWidth);
     glUniform1i(p.uniform("u_culling"), cullingThisFrame ? 1 : 0);

@@ -55,7 +55,12 @@ struct PointSettings {
   bool keptInDepthMaps = true;         // Classification: non-transient points occlude in depth maps
   bool hideTransient = false;          // transient points hidden, else shown untextured
   double epsilon = -1.0;               // Epsilon filter, scene units; < 0: 2e-3 of the scene's extent
-  double meshOffset = 0.0;             // hybrid: the mesh pushed back by this (metres) against points
+  // Hybrid rendering (2016 §4.2): the mesh counts as pushed back by this along its normal (scene
+  // units: metres in a georeferenced scene) behind the points, in the view and in depth maps that
+  // hold points, so that points on or slightly behind the LOD1 surface (windows, doors, a road
+  // under a coarse DTM) show and are not shadowed by it; < 0: 6e-4 of the scene's extent (0.2 m
+  // on the demo city).
+  double meshOffset = -1.0;
   PointColorMode color = PointColorMode::Auto;  // untextured points
   bool eyeDome = true;                 // eye-dome lighting on untextured points (Potree)
   double eyeDomeStrength = 0.4;

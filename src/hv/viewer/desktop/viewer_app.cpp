@@ -426,17 +426,9 @@ class Viewer {
       ps.filter = render::PointFilter(filter);
       changed = true;
     }
-    float eps = float(ps.epsilon);
-    if (ImGui::SliderFloat("epsilon", &eps, -0.01f, 5.0f, eps < 0 ? "auto" : "%.3f", ImGuiSliderFlags_Logarithmic)) {
-      ps.epsilon = eps;
-      changed = true;
-    }
+    changed |= autoOrValue("epsilon", ps.epsilon, 5.0f, "%.3f");
     changed |= ImGui::Checkbox("hide transient points", &ps.hideTransient);
-    float offset = float(ps.meshOffset);
-    if (ImGui::SliderFloat("mesh offset", &offset, 0.0f, 5.0f, "%.2f m")) {
-      ps.meshOffset = offset;
-      changed = true;
-    }
+    changed |= autoOrValue("mesh offset", ps.meshOffset, 5.0f, "%.3f m");
     int budgetK = int(ps.budget / 1000);
     if (ImGui::SliderInt("budget (thousands)", &budgetK, 10, 20000, "%d", ImGuiSliderFlags_Logarithmic)) {
       ps.budget = std::uint64_t(std::max(1, budgetK)) * 1000;
@@ -449,6 +441,27 @@ class Viewer {
     }
     ImGui::Text("%llu points drawn", static_cast<unsigned long long>(renderer_->stats().pointsDrawn));
     settingsChanged_ |= changed;
+  }
+
+  // A distance whose default (< 0) the renderer derives from the scene's extent: "auto", or a
+  // value in (0, max] scene units.
+  static bool autoOrValue(const char* label, double& value, float max, const char* format) {
+    bool isAuto = value < 0.0, changed = false;
+    ImGui::PushID(label);
+    if (ImGui::Checkbox("auto", &isAuto)) {
+      value = isAuto ? -1.0 : 0.01 * max;
+      changed = true;
+    }
+    ImGui::SameLine();
+    ImGui::BeginDisabled(isAuto);
+    float v = isAuto ? 0.0f : float(value);
+    if (ImGui::SliderFloat(label, &v, 0.0f, max, isAuto ? "auto" : format, ImGuiSliderFlags_Logarithmic)) {
+      value = v;
+      changed = true;
+    }
+    ImGui::EndDisabled();
+    ImGui::PopID();
+    return changed;
   }
 
   // Debug views (render::DebugSettings), the chosen photograph's state, and the frame's images with
