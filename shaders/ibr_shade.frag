@@ -11,6 +11,7 @@ precision highp sampler2DArray;
 
 #include "ibr_common.glsl"
 #include "image_binding.glsl"
+#include "colormap.glsl"
 
 uniform highp sampler2D u_viewDepth;       // the view's geometry pass, same encoding
 uniform highp sampler2D u_idealLookup;     // distorted views: ideal pixel of each output pixel
@@ -32,7 +33,10 @@ uniform mat3 u_viewDirFromPix;  // R^T K^-1: world direction (camera z = 1) of a
 uniform int u_imageCount;
 uniform int u_method;           // 0 blend, 1 nearest
 uniform bool u_occlusion;
-uniform int u_mode;             // 0 colour, 1 contributing-image count, 2 loop length (16 bits in r, g)
+// 0 colour; raw, 16 bits in r, g: 1 contributing-image count, 2 loop length, 3 share of image
+// u_debugImage * 65535; colour-mapped (hv::render::DebugView): 4 count, 5 share of u_debugImage.
+uniform int u_mode;
+uniform int u_debugImage;       // index among the frame's images; -1: none
 uniform vec3 u_background;
 // > 0: pixels without geometry see a sphere of this radius around the view (iTowns'
 // backgroundDistance); from a photograph's own centre it shows the photograph whatever the radius.
@@ -43,8 +47,10 @@ uniform highp sampler2D u_pointColor;      // its colour, per view-depth texel (
 
 out vec4 o_color;
 
+bool colourMode() { return u_mode == 0 || u_mode >= 4; }
+
 void writeBackground() {
-  o_color = u_mode != 0 ? vec4(0.0) : vec4(u_background, 0.0);
+  o_color = colourMode() ? vec4(u_background, 0.0) : vec4(0.0);
 }
 
 vec4 encodeCount(int n) { return vec4(float(n & 255) / 255.0, float(n >> 8) / 255.0, 0.0, 1.0); }
@@ -64,7 +70,8 @@ struct HvBlend {
   vec3 sum;
   float alpha;
   int count;
-  bool done;  // nearest: the first image that passes every test wins
+  bool done;   // nearest: the first image that passes every test wins
+  float mine;  // what image u_debugImage added to alpha (its share is mine / alpha)
 };
 
 // Whether image `im` may texture P: projection, distortion domain, image bounds, and whether the
@@ -93,16 +100,18 @@ bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P) {
   return z > zMap + push + hv_shadowBias(im, z, normal, toP);
 }
 
-void hv_accumulate(HvImage im, vec4 texel, inout HvBlend b) {
+// Image `i` of the frame. Twin of the loop body of hv::ibr::referenceBlend.
+void hv_accumulate(int i, HvImage im, vec4 texel, inout HvBlend b) {
   if (texel.a <= 0.0) return;
   if (u_method == 1) {  // nearest: images are sorted by distance, the first that passes wins
-    b = HvBlend(texel.rgb, texel.a, 1, true);
+    b = HvBlend(texel.rgb, texel.a, 1, true, i == u_debugImage ? texel.a : 0.0);
     return;
   }
   if (im.weight <= 0.0) return;
   b.sum += im.weight * texel.rgb;
   b.alpha += im.weight * texel.a;
   b.count += 1;
+  if (i == u_debugImage) b.mine = im.weight * texel.a;
 }
 
 #ifdef HV_NAIVE
@@ -114,7 +123,7 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
   float z;
   if (!hv_applies(im, P, existed, dt, uv, z)) return;
   if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P)) return;
-  hv_accumulate(im, textureLod(image, uv, 0.0), b);
+  hv_accumulate(i, im, textureLod(image, uv, 0.0), b);
 }
 #endif
 
@@ -161,7 +170,7 @@ void main() {
     }
   }
 
-  HvBlend blend = HvBlend(vec3(0.0), 0.0, 0, false);
+  HvBlend blend = HvBlend(vec3(0.0), 0.0, 0, false, 0.0);
 #ifdef HV_NAIVE
   // The naive binding: one step per selected image, each with its own samplers.
   int n = u_imageCount;
@@ -229,20 +238,29 @@ void main() {
     float z;
     if (!hv_applies(im, P, existed, dt, uv, z)) continue;
     if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P)) continue;
-    hv_accumulate(im, textureLod(u_images, vec3(uv, im.slice), 0.0), blend);
+    hv_accumulate(i, im, textureLod(u_images, vec3(uv, im.slice), 0.0), blend);
     if (blend.done) break;
   }
 #endif
   vec3 sum = blend.sum;
   float alpha = blend.alpha;
   int count = blend.count;
-  if (u_mode != 0) {
+  float share = alpha > 0.0 ? blend.mine / alpha : 0.0;
+  if (u_mode == 1 || u_mode == 2) {
     o_color = encodeCount(u_mode == 1 ? count : n);
+    return;
+  }
+  if (u_mode == 3) {
+    o_color = encodeCount(int(share * 65535.0 + 0.5));
+    return;
+  }
+  if (u_mode == 4) {
+    o_color = count > 0 ? vec4(hv_colorRamp(float(count) / float(max(u_imageCount, 1))), 1.0) : vec4(0.0);
     return;
   }
   if (alpha <= 0.0) {
     writeBackground();
     return;
   }
-  o_color = vec4(sum / alpha, 1.0);
+  o_color = u_mode == 5 ? vec4(hv_colorRamp(share), 1.0) : vec4(sum / alpha, 1.0);
 }

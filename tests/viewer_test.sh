@@ -6,8 +6,10 @@
 # Generates a small demo city, opens `histoview view` on it under Xvfb at a held-out view camera,
 # lets it converge (progressive frames until every selected image is resident with a current
 # depth map) and takes a screenshot of the window, then renders the same camera with
-# `histoview render` and compares the two pictures. Exits 77 (skipped) when xvfb-run or the viewer
-# is not available, saying which.
+# `histoview render` and compares the two pictures. Then the same for two debug views
+# (docs/viewer.md): the weight of the photograph nearest the view with the frusta drawn, and that
+# photograph's depth map, against `render --debug weight:ID --frusta` and `--debug depth:ID`.
+# Exits 77 (skipped) when xvfb-run or the viewer is not available, saying which.
 set -uo pipefail
 
 HV=${1:?usage: viewer_test.sh path/to/histoview [scratch-dir]}
@@ -30,11 +32,15 @@ mkdir -p "$DIR"
   { echo "FAIL: demo generation"; cat "$DIR/demo.out"; exit 1; }
 city=$DIR/city
 
-# The held-out view and a window of its aspect ratio (320 pixels wide).
-read -r id w h < <(python3 -c '
+# The held-out view, a window of its aspect ratio (320 pixels wide), and the photograph nearest to
+# it (among the frame's images, so its weight view is not empty).
+read -r id w h photo < <(python3 -c '
 import json, sys
 c = json.load(open(sys.argv[1]))["cameras"][0]
-print(c["id"], 320, round(320 * c["height"] / c["width"]))' "$city/views.json")
+photos = json.load(open(sys.argv[2]))["cameras"]
+d2 = lambda p: sum((a - b) ** 2 for a, b in zip(p["center"], c["center"]))
+print(c["id"], 320, round(320 * c["height"] / c["width"]), min(photos, key=d2)["id"])' \
+  "$city/views.json" "$city/cameras.json")
 size=${w}x${h}
 
 # The viewer: -screen gives Xvfb a 24-bit visual (its default depth is 8 bits per channel too,
@@ -60,7 +66,7 @@ grep -E "converged after|wrote" "$DIR/view.out"
 # one grey level in 255), leaves room only for a window framebuffer that would dither or convert
 # colours; a flipped, shifted, rescaled or partially converged picture scores far below it
 # (a one-row shift of the demo city is under 25 dB).
-python3 - "$DIR/viewer.png" "$DIR/render/$id.png" "$DIR" <<'EOF'
+cat >"$DIR/compare.py" <<'EOF'
 import math, struct, sys, zlib
 
 def read_png(path):
@@ -114,3 +120,29 @@ if psnr < 50.0:
     sys.exit(1)
 print("ok")
 EOF
+compare() { python3 "$DIR/compare.py" "$@"; }
+compare "$DIR/viewer.png" "$DIR/render/$id.png" "$DIR" || exit 1
+
+# Debug views: the renderer draws them in place of the picture, so the viewer's screenshot of a
+# converged debug view is `render`'s preview of it, under the same 50 dB bound.
+for debug in "weight:$photo --frusta" "depth:$photo"; do
+  read -r spec extra <<<"$debug"
+  name=${spec%%:*}
+  # shellcheck disable=SC2086 # $extra: zero or one option
+  xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
+    --size "$size" --screenshot "$DIR/viewer-$name.png" --exit-after-converge --frames 400 --hide-panel \
+    --debug "$spec" $extra >"$DIR/view-$name.out" 2>&1
+  rc=$?
+  if ((rc != 0)) || [[ ! -s $DIR/viewer-$name.png ]]; then
+    echo "FAIL: histoview view --debug $spec exited with $rc (or wrote no screenshot); output:"
+    tail -30 "$DIR/view-$name.out"
+    exit 1
+  fi
+  # shellcheck disable=SC2086
+  "$HV" render "$city/scene.json" --views "$city/views.json" --size "$size" --out "$DIR/render-$name" \
+    --debug "$spec" $extra >"$DIR/render-$name.out" 2>&1 ||
+    { echo "FAIL: histoview render --debug $spec"; cat "$DIR/render-$name.out"; exit 1; }
+  [[ -s $DIR/render-$name/$id.$name.png ]] || { echo "FAIL: render --debug $spec wrote no $id.$name.png"; exit 1; }
+  echo "debug view $spec $extra (photograph nearest the view):"
+  compare "$DIR/viewer-$name.png" "$DIR/render-$name/$id.$name-preview.png" "$DIR" || exit 1
+done

@@ -144,6 +144,12 @@
     $('occlusion').addEventListener('change', (e) => viewer.setOcclusion(e.target.checked));
     $('dmax').addEventListener('change', (e) => viewer.setDepthMapsPerFrame(parseInt(e.target.value, 10) || 1));
     $('speed').addEventListener('change', (e) => viewer.setSpeed(parseFloat(e.target.value) || 1));
+    $('masks').addEventListener('change', (e) => viewer.setMasks(e.target.checked));
+    $('lens').addEventListener('change', (e) => viewer.setLensDistortion(e.target.checked));
+    for (const layer of ['terrain', 'buildings', 'mesh'])
+      $(layer).addEventListener('change', (e) => viewer.setLayer(layer, e.target.checked));
+    $('frusta').addEventListener('change', (e) => viewer.setFrusta(e.target.checked));
+    $('debug-view').addEventListener('change', (e) => viewer.setDebugView(e.target.value));
 
     const down = (...codes) => codes.some((c) => keys.has(c)) ? 1 : 0;
     function tick(now) {

@@ -183,6 +183,8 @@ class WebViewer {
   void focusPhoto(int i) {
     if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
     focused_ = i;
+    renderer_->settings().debug.photo = i;  // the weight and depth-map views show the chosen one
+    dirty_ = true;
     focusPath_ = std::make_unique<FocusContextPath>(nav_->camera(), scene_->photos[size_t(i)].camera, focus_, nullptr);
     focusStart_ = std::chrono::steady_clock::now();
     nav_->setMode(Mode::Fly);
@@ -200,6 +202,24 @@ class WebViewer {
   void setOcclusion(bool on) { renderer_->settings().blend.occlusion = on; dirty_ = true; }
   void setDepthMapsPerFrame(int n) { renderer_->settings().depthMapsPerFrame = std::max(1, n); dirty_ = true; }
   void setStepBack(double d) { focus_.stepBack = d; }
+  // The live switches and debug views of the desktop viewer (docs/viewer.md).
+  void setMasks(bool on) { renderer_->settings().blend.masks = on; dirty_ = true; }
+  void setLensDistortion(bool on) { renderer_->settings().layers.lensDistortion = on; dirty_ = true; }
+  // "terrain", "buildings" or "mesh".
+  void setLayer(const std::string& layer, bool on) {
+    render::LayerSettings& l = renderer_->settings().layers;
+    (layer == "terrain" ? l.terrain : layer == "buildings" ? l.buildings : l.mesh) = on;
+    dirty_ = true;
+  }
+  void setFrusta(bool on) { renderer_->settings().debug.frusta = on; dirty_ = true; }
+  // "picture", "count", "weight" or "depth" (the last two of the focused photograph).
+  void setDebugView(const std::string& view) {
+    renderer_->settings().debug.view = view == "count"    ? render::DebugView::Counts
+                                       : view == "weight" ? render::DebugView::Weight
+                                       : view == "depth"  ? render::DebugView::DepthMap
+                                                          : render::DebugView::None;
+    dirty_ = true;
+  }
 
   // Renders a progressive frame into the canvas when something changed (or `force`); returns
   // false when nothing was drawn. `timed`: waits for the GPU (a 1-pixel read-back: glFinish does
@@ -319,6 +339,11 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("setOcclusion", &WebViewer::setOcclusion)
       .function("setDepthMapsPerFrame", &WebViewer::setDepthMapsPerFrame)
       .function("setStepBack", &WebViewer::setStepBack)
+      .function("setMasks", &WebViewer::setMasks)
+      .function("setLensDistortion", &WebViewer::setLensDistortion)
+      .function("setLayer", &WebViewer::setLayer)
+      .function("setFrusta", &WebViewer::setFrusta)
+      .function("setDebugView", &WebViewer::setDebugView)
       .function("frame", &WebViewer::frame)
       .function("status", &WebViewer::status)
       .function("camera", &WebViewer::camera);

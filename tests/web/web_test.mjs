@@ -3,7 +3,8 @@
 //   node tests/web/web_test.mjs URL OUTDIR [--measure N]
 // Loads URL (…/?camera=ID&w=&h=&k=), waits until the page reports loading complete (every
 // photograph fetched, the frame converged), checks there were no page errors, compares the
-// canvas with reference.png (PSNR over RGB), moves the camera and checks the picture changes.
+// canvas with reference.png (PSNR over RGB), moves the camera and checks the picture changes, then
+// that the panel's debug view and a layer switch change it too and converge without errors.
 // Writes web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the whole page. Prints "N passed, M failed"; exit code 1 on failure.
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
@@ -73,8 +74,38 @@ try {
     console.log(`frame time (median of ${measure}, converged, forced redraw): ${ms.toFixed(1)} ms`);
   }
 
+  // The fraction of the canvas's pixels that differ (by more than 24 levels summed over RGB) from
+  // an earlier canvas, once the page has converged again.
+  const canvasUrl = () => page.evaluate(() => document.getElementById('view').toDataURL('image/png'));
+  const changedSince = async (beforeUrl) => {
+    await page.waitForFunction(() => hv.status && hv.status.converged && !hv.status.focusing, null, { timeout: 60000, polling: 250 });
+    await page.waitForTimeout(300);
+    return page.evaluate(async (url) => {
+      const img = new Image();
+      img.src = url;
+      await img.decode();
+      const grab = (src) => {
+        const c = document.createElement('canvas');
+        c.width = src.width; c.height = src.height;
+        const g = c.getContext('2d');
+        g.drawImage(src, 0, 0);
+        return g.getImageData(0, 0, c.width, c.height).data;
+      };
+      const a = grab(document.getElementById('view')), b = grab(img);
+      let changed = 0;
+      for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24) changed++;
+      return changed / (a.length / 4);
+    }, beforeUrl);
+  };
+  // The panel's controls, as a user changes them (the page listens to 'change').
+  const setControl = (id, value) => page.evaluate(([id, value]) => {
+    const e = document.getElementById(id);
+    if (e.type === 'checkbox') e.checked = value; else e.value = value;
+    e.dispatchEvent(new Event('change'));
+  }, [id, value]);
+
   // Move forward and turn a little: the picture must change, and converge again without errors.
-  const before = await page.evaluate(() => document.getElementById('view').toDataURL('image/png'));
+  const before = await canvasUrl();
   await page.evaluate(() => hv.move(0, 1, 0, 40, 0, 0.5));
   await page.waitForFunction(() => hv.status && hv.status.converged && !hv.status.focusing, null, { timeout: 60000, polling: 250 });
   await page.waitForTimeout(300);
@@ -98,6 +129,24 @@ try {
   check(diff > 0.2, 'moving the camera changes the picture');
   const after = await page.evaluate(() => hv.errors);
   check(after.length === 0 && pageErrors.length === 0, 'no page errors after moving');
+
+  // Debug view and layer switches (docs/viewer.md): the heat map of contributing images replaces
+  // the picture; back to the picture, the terrain switched off leaves background where it was.
+  const picture = await canvasUrl();
+  await setControl('debug-view', 'count');
+  const heat = await changedSince(picture);
+  console.log(`contributing-images view: ${(100 * heat).toFixed(1)} % of the pixels changed`);
+  check(heat > 0.2, 'the debug view replaces the picture');
+  await setControl('debug-view', 'picture');
+  check(await changedSince(picture) === 0, 'back to the picture');
+  await setControl('terrain', false);
+  const noTerrain = await changedSince(picture);
+  console.log(`terrain off: ${(100 * noTerrain).toFixed(1)} % of the pixels changed`);
+  check(noTerrain > 0.02, 'the terrain switch changes the picture');
+  await setControl('terrain', true);
+  check(await changedSince(picture) === 0, 'terrain on again: the same picture');
+  const errorsAfter = await page.evaluate(() => hv.errors);
+  check(errorsAfter.length === 0 && pageErrors.length === 0, 'no page errors after the switches');
 } catch (e) {
   check(false, 'the test ran: ' + e.message);
 } finally {

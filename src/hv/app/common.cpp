@@ -17,6 +17,19 @@ namespace {
 
 const char* const kDateForms = "YYYY, YYYY-MM, YYYY-MM-DD or YYYY-MM-DDThh:mm[:ss]";
 
+const char* const kDebugForms = "count, weight:ID or depth:ID (ID: a photograph)";
+
+// The kind of a --debug value ("count", "weight", "depth") and its photograph id ("" for count);
+// nullopt when it has neither form.
+std::optional<std::pair<std::string, std::string>> splitDebug(const std::string& text) {
+  if (text == "count") return std::pair<std::string, std::string>{text, ""};
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos || colon + 1 == text.size()) return std::nullopt;
+  const std::string kind = text.substr(0, colon);
+  if (kind != "weight" && kind != "depth") return std::nullopt;
+  return std::pair<std::string, std::string>{kind, text.substr(colon + 1)};
+}
+
 // Rejects a malformed date while the command line is parsed, before the scene loads.
 CLI::Validator isoDate() {
   return CLI::Validator(
@@ -98,6 +111,46 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("--point-color", o.pointColor, "untextured points: auto, rgb, intensity or class")
       ->check(CLI::IsMember({"auto", "rgb", "intensity", "class"}));
   cmd.add_flag("--no-eye-dome", o.noEyeDome, "no eye-dome lighting on untextured points");
+  cmd.add_flag("--no-masks", o.noMasks, "ignore the photographs' masks");
+  cmd.add_flag("--no-distortion", o.noDistortion,
+               "project the photographs as pinhole cameras, ignoring their lens distortion (to see what the "
+               "correction does)");
+  cmd.add_option("--hide", o.hide, "geometry left out of the view and of the depth maps: terrain, buildings, mesh")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"terrain", "buildings", "mesh"}));
+  cmd.add_flag("--frusta", o.frusta,
+               "draw the photographs' frusta over the picture (the frame's images yellow, the --debug "
+               "photograph cyan)");
+  cmd.add_option("--frustum-depth", o.frustumDepth, "frustum length along the camera axis, scene units "
+                 "(default: the camera spacing)")
+      ->check(CLI::PositiveNumber);
+}
+
+void applyDebugOption(const std::string& text, const Scene& scene, render::DebugSettings& debug) {
+  if (text.empty()) return;
+  const auto parts = splitDebug(text);
+  if (!parts) throw std::invalid_argument("--debug: expected " + std::string(kDebugForms) + ", got '" + text + "'");
+  const auto& [kind, id] = *parts;
+  if (kind == "count") {
+    debug.view = render::DebugView::Counts;
+    return;
+  }
+  debug.view = kind == "weight" ? render::DebugView::Weight : render::DebugView::DepthMap;
+  for (size_t i = 0; i < scene.photos.size(); ++i)
+    if (scene.photos[i].camera.id == id) {
+      debug.photo = int(i);
+      return;
+    }
+  throw std::invalid_argument("--debug " + text + ": no photograph has the id '" + id + "'");
+}
+
+CLI::Validator debugValue() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (splitDebug(text)) return "";
+        return "expected " + std::string(kDebugForms) + ", got '" + text + "'";
+      },
+      "DEBUG");
 }
 
 std::optional<DateInterval> timeWindow(const std::string& from, const std::string& to) {
@@ -182,6 +235,16 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
                    : o.pointColor == "class"     ? PointColorMode::Classification
                                                  : PointColorMode::Auto;
   s.points.eyeDome = !o.noEyeDome;
+  s.blend.masks = !o.noMasks;
+  s.layers.lensDistortion = !o.noDistortion;
+  for (const std::string& layer : o.hide) {
+    if (layer == "terrain") s.layers.terrain = false;
+    else if (layer == "buildings") s.layers.buildings = false;
+    else if (layer == "mesh") s.layers.mesh = false;
+    else throw std::invalid_argument("--hide: expected terrain, buildings or mesh, got '" + layer + "'");
+  }
+  s.debug.frusta = o.frusta;
+  s.debug.frustumDepth = o.frustumDepth;
   return s;
 }
 

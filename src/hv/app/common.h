@@ -19,6 +19,7 @@
 
 namespace CLI {
 class App;
+class Validator;
 }
 
 namespace hv::app {
@@ -56,6 +57,13 @@ struct ViewOptions {
   double meshOffset = -1.0;  // < 0: the renderer's default
   std::string pointColor = "auto";       // auto | rgb | intensity | class
   bool noEyeDome = false;
+  // Live switches of the viewer, also on the command line (render::LayerSettings, DebugSettings).
+  bool noMasks = false;
+  bool noDistortion = false;             // photographs projected as pinholes
+  std::vector<std::string> hide;         // terrain, buildings, mesh
+  bool frusta = false;
+  double frustumDepth = -1.0;
+  std::string debug;                     // count | weight:ID | depth:ID (empty: none)
 };
 // `withViews`: the required --views option (render, eval); fly has --path instead.
 void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews = true);
@@ -92,5 +100,12 @@ struct Session {
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
                                      const std::function<std::unique_ptr<gpu::Context>()>& makeContext = {});
 render::RenderSettings renderSettings(const ViewOptions& o);
+
+// --debug: "count", "weight:ID" or "depth:ID" (ID a photograph of the scene) into `debug` (view
+// and photo); "" leaves it as it is. Throws std::invalid_argument naming the option and the text,
+// or the id no photograph has.
+void applyDebugOption(const std::string& text, const Scene& scene, render::DebugSettings& debug);
+// Checks the form of a --debug value while the command line is parsed (CLI11 validator).
+CLI::Validator debugValue();
 
 }  // namespace hv::app

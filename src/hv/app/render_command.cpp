@@ -109,36 +109,54 @@ int runInfo(const std::string& scenePath) {
 }
 
 struct RenderOptions {
-  ViewOptions view;
+  ViewOptions view;  // view.debug: --debug
   std::string out;
   bool coverage = false;
-  std::string debug;
   std::string method = "blend";
 };
+
+// --debug weight:ID / depth:ID: the view rendered again as that debug view (batch: every image
+// and depth map already current, only the shading runs again), written as <base>.<name>.png
+// (raw 16-bit values) and <base>.<name>-preview.png (the coloured picture).
+void writeDebugView(render::Renderer& renderer, const render::DebugSettings& debug, const Camera& cam,
+                    const std::string& base) {
+  const render::DebugSettings saved = renderer.settings().debug;
+  renderer.settings().debug = debug;
+  const render::RenderOutput out = renderer.render(cam);
+  renderer.settings().debug = saved;
+  const std::string name = debug.view == render::DebugView::Weight ? "weight" : "depth";
+  writePng16(base + "." + name + ".png", out.debugValues);
+  writePng(base + "." + name + "-preview.png", rgbOf(out.rgba));
+}
 
 int runRender(const RenderOptions& o) {
   Diagnostics diag;
   const std::unique_ptr<Session> s = openSession(o.view, diag);
   if (o.method == "nearest") s->renderer->settings().blend.method = ibr::BlendMethod::Nearest;
   if (o.method == "no-occlusion") s->renderer->settings().blend.occlusion = false;
+  render::DebugSettings debug = s->renderer->settings().debug;
+  applyDebugOption(o.view.debug, s->scene, debug);
+  const bool counts = debug.view == render::DebugView::Counts;  // the count and loop-length outputs
   fs::create_directories(o.out);
   int failed = 0;
   for (size_t i = 0; i < s->views.size(); ++i) {
     const Photo& v = s->views[i];
     try {
       const Camera cam = resizeView(v.camera, o.view.size);
-      const auto result = s->renderer->render(cam, o.debug == "count");
+      const auto result = s->renderer->render(cam, counts);
       const Image8 rgb = rgbOf(result.rgba);
       const Image8 cov = alphaMask(result.rgba);
       const std::string base = (fs::path(o.out) / v.camera.id).string();
       writePng(base + ".png", rgb);
       if (o.coverage) writePng(base + ".coverage.png", cov);
-      if (o.debug == "count") {
+      if (counts) {
         writePng16(base + ".count.png", result.counts);
         writePng(base + ".count-preview.png", colorMapCounts(result.counts));
         writePng16(base + ".loop.png", result.loopLengths);
         writePng(base + ".loop-preview.png", colorMapCounts(result.loopLengths));
       }
+      if (debug.view == render::DebugView::Weight || debug.view == render::DebugView::DepthMap)
+        writeDebugView(*s->renderer, debug, cam, base);
       std::cout << "[" << (i + 1) << "/" << s->views.size() << "] " << base << ".png  (" << cam.width << "x"
                 << cam.height << ", " << s->renderer->lastPlan().images.size() << " images, " << std::fixed
                 << std::setprecision(0) << s->renderer->stats().lastFrameMs << " ms)\n";
@@ -167,9 +185,12 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   addViewOptions(*cmd, o->view);
   cmd->add_option("--out", o->out, "output directory")->required();
   cmd->add_flag("--coverage", o->coverage, "also write <id>.coverage.png (255 where some image contributed)");
-  cmd->add_option("--debug", o->debug, "count: write <id>.count.png (contributing images) and <id>.loop.png (images the shading loop "
-                  "visited), 16-bit raw counts, with colour previews")
-      ->check(CLI::IsMember({"count"}));
+  cmd->add_option("--debug", o->view.debug,
+                  "count: write <id>.count.png (contributing images) and <id>.loop.png (images the shading loop "
+                  "visited), 16-bit raw counts; weight:ID: <id>.weight.png, photograph ID's share of each pixel "
+                  "(x 65535); depth:ID: <id>.depth.png, photograph ID's depth map letterboxed (stored depth x "
+                  "65535); each with a colour <name>-preview.png")
+      ->check(debugValue());
   cmd->add_option("--method", o->method, "blend (default), nearest or no-occlusion")
       ->check(CLI::IsMember({"blend", "nearest", "no-occlusion"}));
   setAction(*cmd, exitCode, [o] { return runRender(*o); });

@@ -20,6 +20,10 @@ void addViewCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--camera", o->camera,
                   "start at this camera: a view of --views, else a photograph (default: an overview)");
+  cmd->add_option("--debug", o->view.debug,
+                  "start in a debug view: count (contributing images), weight:ID (photograph ID's share of each "
+                  "pixel) or depth:ID (photograph ID's depth map)")
+      ->check(app::debugValue());
   cmd->add_option("--screenshot", o->screenshot,
                   "write the view to this PNG (with --exit-after-converge: once converged, then exit)");
   cmd->add_flag("--screenshot-ui", o->screenshotUi, "the screenshot includes the control panel");

@@ -23,6 +23,7 @@ std::optional<ImageHit> projectIntoImage(const ImageParams& im, const glm::dvec3
 BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& images, BlendMethod method,
                            const TextureLookup& texture, const VisibilityTest& visible) {
   BlendResult out;
+  out.contribution.assign(images.size(), 0.0);
   glm::dvec3 sum(0.0);
   for (size_t i = 0; i < images.size(); ++i) {
     const ImageParams& im = images[i];
@@ -36,11 +37,13 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
       out.color = glm::dvec3(texel) / texel.a;
       out.alpha = 1.0;
       out.count = 1;
+      out.contribution[i] = 1.0;
       return out;
     }
     if (im.weight <= 0.0) continue;
     sum += im.weight * glm::dvec3(texel);  // premultiplied: rgb already times alpha
     out.alpha += im.weight * texel.a;
+    out.contribution[i] = im.weight * texel.a;
     ++out.count;
   }
   if (out.alpha > 0.0) out.color = sum / out.alpha;

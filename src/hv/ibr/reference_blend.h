@@ -14,7 +14,12 @@ struct BlendResult {
   glm::dvec3 color{0.0};  // normalised colour c̄ / A
   double alpha = 0.0;     // A = sum w_i a_i
   int count = 0;          // images that contributed (passed every test, alpha and weight > 0)
+  // Per image (same order as the images): what it added to A, w_i a_i (nearest: 1 for the
+  // winner), 0 when it did not contribute. contribution[i] / alpha is image i's share of the
+  // colour (the renderer's DebugView::Weight).
+  std::vector<double> contribution;
   bool covered() const { return alpha > 0.0; }
+  double share(size_t image) const { return covered() ? contribution[image] / alpha : 0.0; }
 };
 
 // Premultiplied RGBA in [0, 1] of slice `slice` at texture coordinate `uv`.

@@ -1,5 +1,6 @@
 #include "hv/render/renderer.h"
 
+#include "hv/camera/frustum_outline.h"
 #include "hv/gpu/gl.h"
 #include "hv/ibr/depth_scheduler.h"
 #include "hv/ibr/image_loader.h"
@@ -8,9 +9,11 @@
 #include "hv/points/chunks.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/ibr/tile_culling.h"
+#include "hv/image/colormap.h"
 #include "hv/util/log.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -69,6 +72,47 @@ void uploadMat3(GLint loc, const glm::dmat3& m) {
 
 enum ProgramIndex { kProgramDepth, kProgramViewDepth, kProgramShade, kProgramTileDepth, kProgramNaive,
                     kProgramPointDepth, kProgramPointColor };
+// The debug programs, at the end of programSources() (after the mat3 sprite form).
+enum DebugProgramIndex { kProgramDebugDepth = 8, kProgramLines = 9 };
+
+// Shading-pass modes (u_mode in shaders/ibr_shade.frag).
+enum ShadeMode : GLint {
+  kShadeColour = 0,
+  kShadeCount = 1,
+  kShadeLoopLength = 2,
+  kShadeShare = 3,
+  kShadeCountColour = 4,
+  kShadeShareColour = 5
+};
+
+// The geometry layers, in the order uploadGeometry appends them to the one index buffer.
+enum Layer { kLayerTerrain, kLayerBuildings, kLayerMesh, kLayerCount };
+
+// Index range of one layer in the index buffer.
+struct DrawRange {
+  GLsizei first = 0, count = 0;
+};
+
+// What the photographs' depth maps are drawn from besides the scene itself. When it changes
+// between frames every depth map is redrawn (issue 6's live toggles).
+struct DepthMapInputs {
+  std::array<bool, kLayerCount> layers{true, true, true};
+  bool lensDistortion = true;  // the frusta: the ideal rectangle covering the distorted image, or W x H
+  // Point sprites in the depth maps (the classification filter) and what decides which are drawn.
+  bool points = false;
+  std::uint64_t pointBudget = 0;
+  double pointRadius = 0.0, pointRadiusScale = 0.0;
+  std::vector<int> keptClasses;
+  double meshPushBack = 0.0;  // the mesh pushed back behind the points (hybrid mesh offset)
+  bool operator==(const DepthMapInputs&) const = default;
+};
+
+// Frustum colours (RGBA) of the DebugSettings::frusta overlay; hidden parts are drawn at
+// kHiddenLineAlpha of these.
+constexpr float kFrustumOther[4] = {0.8f, 0.8f, 0.8f, 0.9f};
+constexpr float kFrustumInFrame[4] = {1.0f, 0.85f, 0.15f, 1.0f};
+constexpr float kFrustumDebug[4] = {0.2f, 0.95f, 1.0f, 1.0f};
+constexpr float kHiddenLineAlpha = 0.3f;
 
 // Per point in the GPU buffer: render-frame position, normal (0 when none), colour + class.
 struct PointVertex {
@@ -92,6 +136,8 @@ const std::vector<ProgramSource>& programSources() {
       {"points.vert", "points.frag", {"HV_DEPTH_ONLY"}},   // point sprites into depth maps and the view
       {"points.vert", "points.frag", {}},                  // textured sprites, 2022 form (N')
       {"points.vert", "points.frag", {"HV_MAT3_K=4"}},     // the 2016 form (the renderer picks K)
+      {"fullscreen.vert", "debug_depth.frag", {}},         // DebugView::DepthMap
+      {"lines.vert", "lines.frag", {}},                    // DebugSettings::frusta
   };
   return list;
 }
@@ -109,6 +155,11 @@ struct Renderer::Impl {
   gpu::VertexArray meshVao, emptyVao;
   gpu::Buffer vertexBuffer, indexBuffer;
   GLsizei indexCount = 0;
+  std::array<DrawRange, kLayerCount> layerRange;
+  // What the current depth maps were drawn from, and whether the loader applies masks: compared
+  // with the settings at the start of each frame (applyLiveSettings).
+  DepthMapInputs depthInputs;
+  bool loaderMasks = true;
   Aabb bounds;          // geometry and camera centres: depth ranges
   Aabb geometryBounds;  // geometry only: the frustum filter
 
@@ -140,7 +191,7 @@ struct Renderer::Impl {
   RenderStats stats;
 
   // The point pass (issue 4).
-  bool pointsOn = false;        // the scene has points and settings.points.enabled (array binding)
+  bool pointsOn = false;        // the scene's points are uploaded (array binding; pointsActive: and enabled)
   bool classify = false;        // the classification filter applies
   bool epsilonTest = false;     // the epsilon filter applies
   bool pointsInDepthMaps = false;
@@ -155,6 +206,18 @@ struct Renderer::Impl {
   int pointParamsRows = 0;
   bool pointsThisFrame = false;
   bool warnedMat3 = false;
+  bool pointsTried = false;        // initPoints ran (points are uploaded on first use)
+  bool warnedPointClasses = false;
+
+  // Debug views and overlays (issue 6), linked on first use.
+  gpu::Program debugDepthProgram, linesProgram;
+  gpu::VertexArray frustumVao;
+  gpu::Buffer frustumBuffer;
+  std::vector<DrawRange> frustumRange;  // per photograph, in frustumBuffer's vertices
+  double frustumDepthBuilt = -1.0;
+  bool frustumLensBuilt = true;
+  bool warnedDebugNaive = false;
+  bool debugWaiting = false;  // the depth-map view's photograph is still being decoded
 
   Impl(const Scene& s, RenderSettings st, Diagnostics& d) : scene(s), settings(st), diag(d), index(centers(s)) {}
 
@@ -173,7 +236,7 @@ struct Renderer::Impl {
     shadeProgram = link(kProgramShade);  // replaced below for the naive binding
     tileDepthProgram = link(kProgramTileDepth);
     uploadGeometry();
-    initPoints();
+    if (settings.points.enabled) initPoints();
     allocateSlots();
     if (naive()) {
       const auto& sh = src[kProgramShade];
@@ -183,6 +246,7 @@ struct Renderer::Impl {
     viewFbo = gpu::makeFramebuffer();
     emptyVao = gpu::makeVertexArray();
     photoBroken.assign(scene.photos.size(), false);
+    depthInputs = depthMapInputs();
     checkGlError("renderer initialisation");
   }
 
@@ -192,9 +256,12 @@ struct Renderer::Impl {
     std::vector<float> vertices;
     std::vector<std::uint32_t> indices;
     const glm::vec2 always = ibr::gpuDays(DateInterval{});
-    for (const Mesh* m : {&scene.terrain, &scene.buildings, &scene.mesh}) {
+    const std::array<const Mesh*, kLayerCount> layers = {&scene.terrain, &scene.buildings, &scene.mesh};
+    for (int layer = 0; layer < kLayerCount; ++layer) {
+      const Mesh* m = layers[size_t(layer)];
       const bool isBuildings = m == &scene.buildings;
       const auto base = std::uint32_t(vertices.size() / kStride);
+      layerRange[size_t(layer)] = {GLsizei(indices.size()), GLsizei(3 * m->triangles.size())};
       // A building's vertices are its own (LOD1 meshes are appended per footprint).
       std::vector<std::uint32_t> vertexTag(m->positions.size(), 0);
       if (isBuildings && !m->triangleTags.empty())
@@ -261,26 +328,41 @@ struct Renderer::Impl {
 
   bool naive() const { return settings.binding == Binding::Naive; }
 
-  // The point buffer (uploaded once, in chunk order), the filters that apply and the programs.
+  // The points are drawn this frame: uploaded (initPoints) and enabled in the settings.
+  bool pointsActive() const { return pointsOn && settings.points.enabled; }
+
+  // The filter that applies (PointSettings::filter, which may change between frames).
+  void resolvePointFilter() {
+    const PointCloud& cloud = scene.points;
+    const PointSettings& ps = settings.points;
+    const PointFields fields = cloud.fields();
+    PointFilter filter = ps.filter;
+    if (filter == PointFilter::Auto) filter = fields.classification ? PointFilter::Classification : PointFilter::Epsilon;
+    if (filter == PointFilter::Classification && !fields.classification) {
+      if (!warnedPointClasses) diag.warn(cloud.sourcePath + ": no classification; filtering points by epsilon instead");
+      warnedPointClasses = true;
+      filter = PointFilter::Epsilon;
+    }
+    classify = filter == PointFilter::Classification;
+    epsilonTest = filter == PointFilter::Epsilon;
+    pointsInDepthMaps = classify && ps.keptInDepthMaps;
+  }
+
+  // The point buffer (uploaded once, in chunk order, when the points are first enabled), the
+  // filters that apply and the programs.
   void initPoints() {
     const PointCloud& cloud = scene.points;
     const PointSettings& ps = settings.points;
-    if (cloud.empty() || !ps.enabled) return;
+    if (pointsTried) return;
+    pointsTried = true;
+    if (cloud.empty()) return;
     if (naive()) {
       diag.warn("points are drawn only with the texture-array binding; --binding naive leaves them out");
       return;
     }
     if (cloud.chunks.empty()) throw std::runtime_error("point cloud not organised into chunks (hv::organizeChunks)");
     const PointFields fields = cloud.fields();
-    PointFilter filter = ps.filter;
-    if (filter == PointFilter::Auto) filter = fields.classification ? PointFilter::Classification : PointFilter::Epsilon;
-    if (filter == PointFilter::Classification && !fields.classification) {
-      diag.warn(cloud.sourcePath + ": no classification; filtering points by epsilon instead");
-      filter = PointFilter::Epsilon;
-    }
-    classify = filter == PointFilter::Classification;
-    epsilonTest = filter == PointFilter::Epsilon;
-    pointsInDepthMaps = classify && ps.keptInDepthMaps;
+    resolvePointFilter();
 
     const std::vector<glm::u8vec4> colors = pointDisplayColors(cloud, ps.color);
     std::vector<PointVertex> vertices(cloud.size());
@@ -356,7 +438,7 @@ struct Renderer::Impl {
 
   // Hybrid rendering: how much farther the mesh counts in the photographs' depth maps (depth.frag)
   // and in the mesh's shadow test (ibr_shade.frag); only where points share the depth maps.
-  double meshPushBack() const { return pointsOn && pointsInDepthMaps ? meshOffset() : 0.0; }
+  double meshPushBack() const { return pointsActive() && pointsInDepthMaps ? meshOffset() : 0.0; }
 
   double meshOffset() const {
     if (settings.points.meshOffset >= 0.0) return settings.points.meshOffset;
@@ -532,6 +614,7 @@ struct Renderer::Impl {
     stats.sliceBytes = perSlot * size_t(slotCount);
     loader = std::make_unique<ibr::ImageLoader>(sliceSize, std::max(0, settings.decodeThreads),
                                                 settings.decodeMemoryBytes, settings.blend.masks);
+    loaderMasks = settings.blend.masks;
     depthScheduler.resize(slotCount);
     slotFrustum.assign(size_t(slotCount), {});
 
@@ -586,9 +669,7 @@ struct Renderer::Impl {
     const ibr::SlotCache::Grant grant = cache.acquire(r.photo, neededNow);
     if (!grant || !grant.isNew) return;  // every slot pinned (it will be asked for again), or already there
     depthScheduler.markDirty(grant.slot);
-    ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(p.camera, 1.0);
-    ibr::setDepthRange(fr, p.camera, bounds);
-    slotFrustum[size_t(grant.slot)] = fr;
+    slotFrustum[size_t(grant.slot)] = depthFrustum(r.photo);
     if (naive()) {
       glBindTexture(GL_TEXTURE_2D, naiveImages[size_t(grant.slot)].id());
       glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, sliceSize.width, sliceSize.height, GL_RGBA, GL_UNSIGNED_BYTE,
@@ -647,17 +728,32 @@ struct Renderer::Impl {
     glDisable(GL_CULL_FACE);
     glClearDepthf(1.0f);
     glClear(GL_DEPTH_BUFFER_BIT);
-    if (indexCount > 0) {
-      glBindVertexArray(meshVao.id());
-      glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
-      glBindVertexArray(0);
-    }
+    if (indexCount > 0) drawLayers();
     glDisable(GL_DEPTH_TEST);
+  }
+
+  // The geometry layers that settings.layers keeps, contiguous ranges in one draw.
+  void drawLayers() {
+    const std::array<bool, kLayerCount> on = {settings.layers.terrain, settings.layers.buildings, settings.layers.mesh};
+    glBindVertexArray(meshVao.id());
+    for (int layer = 0; layer < kLayerCount;) {
+      if (!on[size_t(layer)]) {
+        ++layer;
+        continue;
+      }
+      const GLsizei first = layerRange[size_t(layer)].first;
+      GLsizei count = 0;
+      for (; layer < kLayerCount && on[size_t(layer)]; ++layer) count += layerRange[size_t(layer)].count;
+      if (count > 0)
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(std::uintptr_t(first) * sizeof(std::uint32_t)));
+    }
+    glBindVertexArray(0);
   }
 
   void renderDepthMap(int slot) {
     const Photo& photo = scene.photos[size_t(cache.photoIn(slot))];
-    const Camera& cam = photo.camera;
+    const Camera cam = photoCamera(cache.photoIn(slot));
     const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
     glBindFramebuffer(GL_FRAMEBUFFER, depthFbo.id());
     if (naive())
@@ -671,7 +767,7 @@ struct Renderer::Impl {
     glViewport(0, 0, depthSize, depthSize);
     drawDepth(depthProgram, ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo),
               meshPushBack(), cam.center - scene.origin);
-    if (pointsOn && pointsInDepthMaps) {
+    if (pointsActive() && pointsInDepthMaps) {
       // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
@@ -759,15 +855,110 @@ struct Renderer::Impl {
   }
 
   void preload(const Camera& view) {
+    applyLiveSettings();
     ibr::BlendSettings blend = frameBlendSettings();
     planAndLoad(view, blend, FrameMode::Batch);
+  }
+
+  // ---- Live settings (issue 6): what a viewer may change between frames ----
+
+  // The camera photograph `photo` is projected with: its own, or without its lens distortion
+  // (LayerSettings::lensDistortion off).
+  Camera photoCamera(int photo) const {
+    Camera cam = scene.photos[size_t(photo)].camera;
+    if (!settings.layers.lensDistortion) cam.distortion.reset();
+    return cam;
+  }
+
+  // The pinhole frustum of a photograph's depth map: the ideal rectangle covering its image (with
+  // a pixel of margin), the depth range of everything that may be drawn into it.
+  ibr::PinholeFrustum depthFrustum(int photo) const {
+    const Camera cam = photoCamera(photo);
+    ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(cam, 1.0);
+    ibr::setDepthRange(fr, cam, bounds);
+    return fr;
+  }
+
+  DepthMapInputs depthMapInputs() const {
+    DepthMapInputs in;
+    in.layers = {settings.layers.terrain, settings.layers.buildings, settings.layers.mesh};  // as drawLayers
+    in.lensDistortion = settings.layers.lensDistortion;
+    in.points = pointsActive() && pointsInDepthMaps;
+    if (in.points) {
+      const PointSettings& ps = settings.points;
+      in.pointBudget = ps.budget;
+      in.pointRadius = ps.radius;
+      in.pointRadiusScale = ps.radiusScale;
+      in.keptClasses = ps.keptClasses;
+      in.meshPushBack = meshPushBack();
+    }
+    return in;
+  }
+
+  // Every resident photograph's depth map is redrawn, with frusta recomputed (the bounds or the
+  // lens model may have changed).
+  void invalidateDepthMaps() {
+    for (int slot = 0; slot < slotCount; ++slot)
+      if (cache.photoIn(slot) >= 0) slotFrustum[size_t(slot)] = depthFrustum(cache.photoIn(slot));
+    depthScheduler.markAllDirty();
+  }
+
+  // Masks switched: the slices hold the colour premultiplied by the mask, so every photograph is
+  // decoded again (a new loader drops the pending decodes; broken photographs get another try, as
+  // their mask may have been what failed).
+  void reloadPhotographs() {
+    loader.reset();
+    loader = std::make_unique<ibr::ImageLoader>(sliceSize, std::max(0, settings.decodeThreads),
+                                                settings.decodeMemoryBytes, settings.blend.masks);
+    loaderMasks = settings.blend.masks;
+    cache.clear();
+    photoBroken.assign(scene.photos.size(), false);
+    depthScheduler.markAllDirty();
+  }
+
+  // Compares the settings with what is resident and drawn, and invalidates what they change.
+  void applyLiveSettings() {
+    if (settings.blend.masks != loaderMasks) reloadPhotographs();
+    if (settings.points.enabled && !pointsTried) {
+      initPoints();
+      if (pointsOn) invalidateDepthMaps();  // the points extended the bounds: depth ranges change
+    }
+    if (pointsOn) resolvePointFilter();
+    const DepthMapInputs now = depthMapInputs();
+    if (now != depthInputs) {
+      invalidateDepthMaps();
+      depthInputs = now;
+    }
+  }
+
+  // DebugView::DepthMap shows one photograph's depth map whether or not the frame selects it: it
+  // is made resident (batch frames wait for it) and pinned. Returns its slot, -1 when it is not
+  // (yet) resident, is broken, or every slot is pinned by the frame.
+  int prepareDebugPhoto(FrameMode mode) {
+    const int photo = settings.debug.photo;
+    if (settings.debug.view != DebugView::DepthMap || photo < 0 || photo >= int(scene.photos.size()) ||
+        photoBroken[size_t(photo)])
+      return -1;
+    if (cache.pin(photo)) return cache.slotOf(photo);
+    loader->request(photo, scene.photos[size_t(photo)], 0.0);
+    auto sink = [&](ibr::LoadResult&& r) {
+      const int p = r.photo;
+      install(std::move(r), p == photo);
+    };
+    if (mode == FrameMode::Batch)
+      loader->wait({photo}, sink);
+    else
+      for (auto& r : loader->poll()) sink(std::move(r));
+    return cache.slotOf(photo);
   }
 
   RenderOutput render(const Camera& view, bool withCounts, FrameMode mode) {
     const auto t0 = std::chrono::steady_clock::now();
     ++frame;
+    applyLiveSettings();
     ibr::BlendSettings blend = frameBlendSettings();
     planAndLoad(view, blend, mode);
+    const int debugSlot = prepareDebugPhoto(mode);
     // Slots of the planned images; -1 while a progressive frame still waits for the decode.
     std::vector<int> slots;
     std::vector<int> residentSlots;
@@ -791,19 +982,24 @@ struct Renderer::Impl {
       renderDepthMap(slot);
       if (budgeted) glFinish();  // the budget is about GPU time: wait for the map to be drawn
     }
+    // The depth-map debug view's photograph, outside the schedule: one map, when it is shown.
+    if (debugSlot >= 0 && depthScheduler.isDirty(debugSlot)) renderDepthMap(debugSlot);
+    debugWaiting = settings.debug.view == DebugView::DepthMap && debugSlot < 0 && settings.debug.photo >= 0 &&
+                   loader->isPending(settings.debug.photo);
 
     // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image. An image
     // whose depth map is not current yet (progressive frames) waits, unless occlusion is off.
     params.clear();
     std::vector<float> packed;
     const double biasAbs = depthBiasAbsolute();
-    stats.imagesWaiting = 0;
+    stats.imagesWaiting = stats.decodesWaiting = stats.depthMapsWaiting = 0;
     for (size_t i = 0; i < plan.images.size(); ++i) {
       if (slots[i] < 0 || (blend.occlusion && depthScheduler.isDirty(slots[i]))) {
         ++stats.imagesWaiting;
+        ++(slots[i] < 0 ? stats.decodesWaiting : stats.depthMapsWaiting);
         continue;
       }
-      const Camera& cam = scene.photos[size_t(plan.images[i].photo)].camera;
+      const Camera cam = photoCamera(plan.images[size_t(i)].photo);
       const ibr::PinholeFrustum& fr = slotFrustum[size_t(slots[i])];
       const double texel = std::max((fr.pxMax.x - fr.pxMin.x) / (depthSize * cam.focal.x),
                                     (fr.pxMax.y - fr.pxMin.y) / (depthSize * cam.focal.y));
@@ -815,6 +1011,11 @@ struct Renderer::Impl {
       packed.resize(packed.size() + ibr::kTexelsPerImage * 4);
       ibr::packImageParams(params.back(), packed.data() + packed.size() - ibr::kTexelsPerImage * 4);
     }
+    stats.residentImages = cache.residentCount();
+    stats.debugSlot = debugSlot >= 0 ? debugSlot : cache.slotOf(settings.debug.photo);
+    stats.debugImage = -1;
+    for (size_t i = 0; i < params.size(); ++i)
+      if (params[i].photo == settings.debug.photo) stats.debugImage = int(i);
     ensureParamsTexture(int(params.size()));
     if (!params.empty()) {
       glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
@@ -844,7 +1045,7 @@ struct Renderer::Impl {
     glClearBufferfv(GL_COLOR, 0, noBuilding);
     // The view shows today's geometry: every surface, whatever its dates.
     drawDepth(viewDepthProgram, ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far, DateInterval{});
-    pointsThisFrame = pointsOn;
+    pointsThisFrame = pointsActive();
     stats.pointsDrawn = 0;
     if (pointsThisFrame) renderViewPoints(view, vf, depthSz, blend);
 
@@ -865,13 +1066,19 @@ struct Renderer::Impl {
     bindShadeInputs(view, vf, depthSz, distorted, blend);
 
     RenderOutput out;
-    // The debug counts first and the colour last, so the colour target ends up holding the colour
+    // The debug counts first and the picture last, so the colour target ends up holding the picture
     // (colorTexture()).
     if (withCounts) {
-      out.counts = decodeCounts(shade(1, view.width, view.height, true));
-      out.loopLengths = decodeCounts(shade(2, view.width, view.height, true));
+      out.counts = decodeCounts(shade(kShadeCount, view.width, view.height, true));
+      out.loopLengths = decodeCounts(shade(kShadeLoopLength, view.width, view.height, true));
     }
-    out.rgba = shade(0, view.width, view.height, settings.readBackColour);
+    if (settings.debug.view == DebugView::None)
+      shade(kShadeColour, view.width, view.height, false);
+    else
+      out.debugValues = renderDebugView(view, debugSlot);
+    // Not over the depth-map view: that picture is in the photograph's image, not the view's.
+    if (settings.debug.frusta && settings.debug.view != DebugView::DepthMap) drawFrusta(view, vf, depthSz, distorted);
+    if (settings.readBackColour) out.rgba = readColour(view.width, view.height);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlError("render");
     stats.lastFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -1045,23 +1252,219 @@ struct Renderer::Impl {
     glUniform1i(p.uniform("u_imageCount"), GLint(params.size()));
     glUniform1i(p.uniform("u_method"), blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
     glUniform1i(p.uniform("u_occlusion"), blend.occlusion ? 1 : 0);
+    glUniform1i(p.uniform("u_debugImage"), stats.debugImage);
     glUniform3f(p.uniform("u_background"), float(settings.background.r), float(settings.background.g),
                 float(settings.background.b));
   }
 
-  // Runs the shading pass in `mode` (0 colour, 1 contributing images, 2 loop lengths) into the
-  // colour target; reads it back when asked (else returns an empty image).
-  Image8 shade(int mode, int w, int h, bool readBack) {
+  // Runs the shading pass in `mode` (ShadeMode) into the colour target; reads it back when asked
+  // (else returns an empty image).
+  Image8 shade(ShadeMode mode, int w, int h, bool readBack) {
     glUniform1i(shadeProgram.uniform("u_mode"), mode);
     glBindVertexArray(emptyVao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
     if (!readBack) return {};
+    return readColour(w, h);
+  }
+
+  // The bound colour target, RGBA8.
+  static Image8 readColour(int w, int h) {
     Image8 img(w, h, 4);
     // Offscreen rows are stored top row first (docs/conventions.md): no flip.
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.data.data());
-    checkGlError("shade pass");
+    checkGlError("colour read-back");
     return img;
+  }
+
+  static gpu::Program linkProgram(int index) {
+    const ProgramSource& src = programSources()[size_t(index)];
+    return gpu::Program(src.vertex, src.fragment, src.defines);
+  }
+
+  // ---- Debug views and overlays (issue 6) ----
+
+  // Draws settings.debug.view into the colour target (viewFbo bound, the shading program's inputs
+  // set). Returns its raw values when the colour is read back.
+  Image16 renderDebugView(const Camera& view, int debugSlot) {
+    const int w = view.width, h = view.height;
+    const bool raw = settings.readBackColour;
+    switch (settings.debug.view) {
+      case DebugView::Counts: {
+        Image16 values = raw ? decodeCounts(shade(kShadeCount, w, h, true)) : Image16{};
+        shade(kShadeCountColour, w, h, false);
+        return values;
+      }
+      case DebugView::Weight: {
+        Image16 values = raw ? decodeCounts(shade(kShadeShare, w, h, true)) : Image16{};
+        shade(kShadeShareColour, w, h, false);
+        return values;
+      }
+      case DebugView::DepthMap: {
+        Image16 values = depthMapView(w, h, debugSlot);
+        return raw ? values : Image16{};
+      }
+      case DebugView::None:
+        break;
+    }
+    return {};
+  }
+
+  // DebugView::DepthMap: the slot's depth map letterboxed into the w x h colour target. The raw
+  // values are read back (always: the colours span the nearest to the farthest stored depth, a
+  // range only a reduction finds) and the coloured picture uploaded over them.
+  Image16 depthMapView(int w, int h, int slot) {
+    stats.debugDepthNear = stats.debugDepthFar = 0.0;
+    if (slot >= 0 && naive()) {
+      if (!warnedDebugNaive) diag.warn("the depth-map debug view needs the texture-array binding");
+      warnedDebugNaive = true;
+      slot = -1;
+    }
+    Image16 values(w, h, 1, 65535);
+    std::vector<bool> inside(size_t(w) * h, false);
+    if (slot >= 0) {
+      if (!debugDepthProgram.id()) debugDepthProgram = linkProgram(kProgramDebugDepth);
+      // The map covers the frustum's ideal rectangle: shown with that aspect ratio, centred.
+      const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
+      const double aspect = (fr.pxMax.x - fr.pxMin.x) / (fr.pxMax.y - fr.pxMin.y);
+      const glm::dvec2 rect = aspect * h > w ? glm::dvec2(w, w / aspect) : glm::dvec2(h * aspect, h);
+      const glm::dvec2 rectMin = (glm::dvec2(w, h) - rect) / 2.0;
+      const gpu::Program& p = debugDepthProgram;
+      p.use();
+      glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+      glActiveTexture(GL_TEXTURE0);
+      glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
+      glUniform1f(p.uniform("u_slice"), float(slot));
+      glUniform2f(p.uniform("u_rectMin"), float(rectMin.x), float(rectMin.y));
+      glUniform2f(p.uniform("u_rectSize"), float(rect.x), float(rect.y));
+      glBindVertexArray(emptyVao.id());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindVertexArray(0);
+      const Image8 enc = readColour(w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          values.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
+          inside[size_t(y) * w + x] = enc.at(x, y, 2) > 127;
+        }
+      shadeProgram.use();
+    }
+    int lo = 65535, hi = 0;
+    for (size_t i = 0; i < inside.size(); ++i)
+      if (inside[i] && values.data[i] < 65535) {
+        lo = std::min<int>(lo, values.data[i]);
+        hi = std::max<int>(hi, values.data[i]);
+      }
+    if (lo <= hi) {
+      const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
+      stats.debugDepthNear = fr.near + lo / 65535.0 * (fr.far - fr.near);
+      stats.debugDepthFar = fr.near + hi / 65535.0 * (fr.far - fr.near);
+    }
+    // Near bright (yellow), far dark; black where the photograph sees nothing; the background
+    // colour outside the map.
+    Image8 rgba(w, h, 4, 0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        std::uint8_t* o = rgba.px(x, y);
+        glm::dvec3 c = settings.background;
+        if (inside[i]) c = glm::dvec3(0.0);
+        if (inside[i] && values.data[i] < 65535) {
+          c = colorRamp(hi > lo ? double(hi - values.data[i]) / (hi - lo) : 1.0);
+          o[3] = 255;
+        }
+        for (int k = 0; k < 3; ++k) o[k] = std::uint8_t(std::lround(255.0 * std::clamp(c[k], 0.0, 1.0)));
+      }
+    glBindTexture(GL_TEXTURE_2D, viewColor.id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data.data());
+    checkGlError("depth-map debug view");
+    return values;
+  }
+
+  // The frusta of every photograph (frustumOutline, truncated at the frustum depth) as one line
+  // buffer, a range per photograph; rebuilt when the depth or the lens setting changes.
+  void buildFrustumLines() {
+    const double depth = settings.debug.frustumDepth > 0.0 ? settings.debug.frustumDepth : scene.cameraSpacing();
+    if (frustumVao && depth == frustumDepthBuilt && settings.layers.lensDistortion == frustumLensBuilt) return;
+    std::vector<float> xyz;
+    frustumRange.clear();
+    for (size_t i = 0; i < scene.photos.size(); ++i) {
+      const Camera cam = photoCamera(int(i));
+      // A distorted border is curved: 8 segments per side follow it well at debug-view sizes.
+      const bool curved = cam.distortion && !cam.distortion->isIdentity();
+      const std::vector<glm::dvec3> lines = frustumLineSegments(frustumOutline(cam, depth, curved ? 8 : 1));
+      frustumRange.push_back({GLsizei(xyz.size() / 3), GLsizei(lines.size())});
+      for (const glm::dvec3& p : lines) {
+        const glm::dvec3 r = p - scene.origin;  // render frame (DESIGN.md §1)
+        xyz.insert(xyz.end(), {float(r.x), float(r.y), float(r.z)});
+      }
+    }
+    if (!frustumVao) {
+      frustumVao = gpu::makeVertexArray();
+      frustumBuffer = gpu::makeBuffer();
+    }
+    glBindVertexArray(frustumVao.id());
+    glBindBuffer(GL_ARRAY_BUFFER, frustumBuffer.id());
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(xyz.size() * sizeof(float)), xyz.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+    glBindVertexArray(0);
+    frustumDepthBuilt = depth;
+    frustumLensBuilt = settings.layers.lensDistortion;
+    checkGlError("frustum lines");
+  }
+
+  // DebugSettings::frusta over the picture in the colour target (viewFbo bound), depth-tested
+  // against the view's depth: visible parts opaque, hidden ones faint. Pinhole views only: the
+  // lines go through the view's pinhole transform, which a distorted picture does not follow.
+  void drawFrusta(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted) {
+    if (distorted || scene.photos.empty() || depthSz != glm::ivec2(view.width, view.height)) return;
+    buildFrustumLines();
+    if (!linesProgram.id()) linesProgram = linkProgram(kProgramLines);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, viewDepth.id(), 0);
+    gpu::checkFramebuffer("frusta");
+    const gpu::Program& p = linesProgram;
+    p.use();
+    uploadMat4(p.uniform("u_clipFromRender"), ibr::clipFromRender(view, vf, scene.origin));
+    glUniform1f(p.uniform("u_near"), float(vf.near));
+    glUniform1f(p.uniform("u_far"), float(vf.far));
+    const GLint colorLoc = p.uniform("u_color");
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    // Alpha accumulates as coverage: a line pixel counts as covered.
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glBindVertexArray(frustumVao.id());
+    const DrawRange all{0, frustumRange.back().first + frustumRange.back().count};
+    auto draw = [&](const float* rgba, float alphaScale, int photo) {
+      if (photo >= int(frustumRange.size())) return;
+      const DrawRange& r = photo < 0 ? all : frustumRange[size_t(photo)];
+      glUniform4f(colorLoc, rgba[0], rgba[1], rgba[2], rgba[3] * alphaScale);
+      glDrawArrays(GL_LINES, r.first, r.count);
+    };
+    // Complementary depth tests, so each line pixel is drawn once: behind the geometry, then in front.
+    for (const bool hidden : {true, false}) {
+      glDepthFunc(hidden ? GL_GREATER : GL_LEQUAL);
+      const float alpha = hidden ? kHiddenLineAlpha : 1.0f;
+      draw(kFrustumOther, alpha, -1);
+      for (const ibr::SelectedImage& im : plan.images) draw(kFrustumInFrame, alpha, im.photo);
+      if (settings.debug.photo >= 0) draw(kFrustumDebug, alpha, settings.debug.photo);
+    }
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
+    checkGlError("frusta");
+  }
+
+  PhotoState photoState(int photo) const {
+    if (photo < 0 || photo >= int(scene.photos.size())) return PhotoState::Absent;
+    if (photoBroken[size_t(photo)]) return PhotoState::Broken;
+    const int slot = cache.slotOf(photo);
+    if (slot < 0) return loader->isPending(photo) ? PhotoState::Decoding : PhotoState::Absent;
+    return depthScheduler.isDirty(slot) ? PhotoState::DepthMapPending : PhotoState::Ready;
   }
 };
 
@@ -1089,7 +1492,7 @@ Renderer::~Renderer() = default;
 RenderOutput Renderer::render(const Camera& view, bool withCounts, FrameMode mode) {
   return impl_->render(view, withCounts, mode);
 }
-bool Renderer::converged() const { return impl_->stats.imagesWaiting == 0; }
+bool Renderer::converged() const { return impl_->stats.imagesWaiting == 0 && !impl_->debugWaiting; }
 void Renderer::preload(const Camera& view) { impl_->preload(view); }
 const ibr::FramePlan& Renderer::lastPlan() const { return impl_->plan; }
 const std::vector<ibr::ImageParams>& Renderer::lastImageParams() const { return impl_->params; }
@@ -1098,6 +1501,8 @@ RenderSettings& Renderer::settings() { return impl_->settings; }
 ibr::SliceSize Renderer::sliceSize() const { return impl_->sliceSize; }
 int Renderer::sliceCount() const { return impl_->slotCount; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
+PhotoState Renderer::photoState(int photo) const { return impl_->photoState(photo); }
+int Renderer::slotOf(int photo) const { return impl_->cache.slotOf(photo); }
 unsigned int Renderer::colorTexture() const { return impl_->viewColor.id(); }
 
 }  // namespace hv::render

@@ -67,6 +67,49 @@ struct PointSettings {
   double eyeDomeRadiusPx = 1.4;
 };
 
+// Geometry layers and corrections switched off live, to see what each contributes (issue 6). A
+// layer switched off is left out of the view and of the photographs' depth maps; changing one
+// redraws every depth map. (Masks are BlendSettings::masks: the slices hold the colour
+// premultiplied by the mask, so switching them decodes the photographs again.)
+struct LayerSettings {
+  bool terrain = true;
+  bool buildings = true;
+  bool mesh = true;  // scene.json "mesh"
+  // false: the photographs are projected as pinhole cameras, their lens distortion ignored, to
+  // show what the correction does (a distorted view stays distorted). Their depth maps are redrawn
+  // with the pinhole frusta.
+  bool lensDistortion = true;
+};
+
+// Debug views (issue 6). With a view other than None the picture (RenderOutput::rgba and
+// colorTexture()) is that view, coloured with hv::colorRamp (dark purple 0 ... yellow 1), and
+// RenderOutput::debugValues holds its raw values (16 bits, one channel) when the colour is read back.
+enum class DebugView {
+  None,
+  // Contributing images per pixel; colour: count / (images in the frame), black where none;
+  // raw: the count.
+  Counts,
+  // The share of photograph debug.photo in each pixel's blend, w_i a_i / sum_j w_j a_j (Brédif 2013
+  // eq. 2; nearest: 1 where it wins), 0 where it does not contribute or is not among the frame's
+  // images; background where no image covers the pixel. raw: share * 65535.
+  Weight,
+  // The depth map of photograph debug.photo (made resident for it), letterboxed into the view with
+  // its frustum's aspect ratio; colour: nearest stored depth (yellow) to farthest (dark purple),
+  // black where the photograph sees no geometry. raw: the stored value (linear depth between the
+  // map's near and far planes) * 65535; 65535 outside the map and where it sees no geometry.
+  DepthMap,
+};
+
+struct DebugSettings {
+  DebugView view = DebugView::None;
+  int photo = -1;              // Weight, DepthMap: index into Scene::photos
+  // The photographs' frusta drawn over the picture (camera::frustumOutline): grey, the frame's
+  // images yellow, debug.photo cyan; fainter where the geometry hides them. Not on distorted views,
+  // nor over the DepthMap view (a picture in the photograph's image, not the view's).
+  bool frusta = false;
+  double frustumDepth = -1.0;  // scene units; <= 0: the scene's camera spacing
+};
+
 struct RenderSettings {
   Binding binding = Binding::Array;
   ibr::BlendSettings blend;
@@ -100,6 +143,8 @@ struct RenderSettings {
   // colorTexture() (a window presents it without a GPU -> CPU copy). Counts are read back anyway.
   bool readBackColour = true;
   PointSettings points;
+  LayerSettings layers;
+  DebugSettings debug;
 };
 
 enum class FrameMode {
@@ -111,6 +156,7 @@ struct RenderOutput {
   Image8 rgba;           // alpha = 255 where some image contributed (coverage)
   Image16 counts;        // contributing images per pixel (when asked)
   Image16 loopLengths;   // images each pixel's shading loop visited (when counts are asked)
+  Image16 debugValues;   // the debug view's raw values (RenderSettings::debug), when read back
 };
 
 struct RenderStats {
@@ -125,6 +171,24 @@ struct RenderStats {
   double lastFrameMs = 0.0;
   std::uint64_t pointsDrawn = 0;   // sprites of the last frame's view (not the depth maps)
   int mat3Images = 0;              // SpriteForm::Mat3: images the linked program carries
+  // Why the last frame's images wait (imagesWaiting = decodesWaiting + depthMapsWaiting).
+  int decodesWaiting = 0;          // selected, not resident yet (decoding or queued)
+  int depthMapsWaiting = 0;        // resident, depth map not current
+  int residentImages = 0;          // photographs in slots, selected or not
+  // Debug views: debug.photo's index among the last frame's images (-1: not among them), its slot
+  // (-1: not resident) and, for the DepthMap view, the depths its colours span (scene units).
+  int debugImage = -1;
+  int debugSlot = -1;
+  double debugDepthNear = 0.0, debugDepthFar = 0.0;
+};
+
+// Where a photograph stands in the renderer (the viewer's residency table).
+enum class PhotoState {
+  Absent,           // not resident and not asked for
+  Decoding,         // queued or being decoded
+  DepthMapPending,  // resident, its depth map not current
+  Ready,            // resident with a current depth map
+  Broken,           // could not be loaded (reported once); left out of every frame
 };
 
 // SpriteForm::Mat3 (a mat3 varying per image): the largest image count, up to `upTo`, whose
@@ -149,7 +213,8 @@ class Renderer {
   // Renders one view (batch: every needed image resident and every depth map current, so the
   // output is deterministic). A view with distortion is rendered distorted.
   RenderOutput render(const Camera& view, bool withCounts = false, FrameMode mode = FrameMode::Batch);
-  // True when the last frame used every selected image with a current depth map.
+  // True when the last frame used every selected image with a current depth map (and, with the
+  // depth-map debug view, showed its photograph's map, unless no slot could take it).
   bool converged() const;
   // Makes the images a view needs resident (waiting for their decodes) without rendering anything:
   // a viewer's start-up, or a test of the depth-map schedule alone.
@@ -163,9 +228,11 @@ class Renderer {
   ibr::SliceSize sliceSize() const;
   int sliceCount() const;
   const RenderStats& stats() const;
+  PhotoState photoState(int photo) const;
+  int slotOf(int photo) const;  // -1 when not resident
   // The GL name of the RGBA8 texture that holds the last frame's colour (the same pixels as
   // RenderOutput::rgba, alpha = coverage), stored top row first like every offscreen target
-  // (docs/conventions.md), so a window presenting it flips it. Its size is the last view's; it
+  // (docs/conventions.md), so a window presenting it flips it. With a debug view it holds that view. Its size is the last view's; it
   // stays valid until the next render() (which may reallocate it for another size). 0 before the
   // first frame.
   unsigned int colorTexture() const;

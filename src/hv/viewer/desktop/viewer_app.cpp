@@ -5,7 +5,6 @@
 
 #include "hv/gpu/gl.h"
 #include "hv/gpu/present.h"
-#include "hv/image/colormap.h"
 #include "hv/image/image.h"
 #include "hv/io/camera_path_json.h"
 #include "hv/scene/raycast.h"
@@ -91,6 +90,7 @@ class Viewer {
     renderer_ = session_->renderer.get();
     renderer_->settings().readBackColour = false;
     const Scene& scene = session_->scene;
+    app::applyDebugOption(o_.view.debug, scene, renderer_->settings().debug);
     std::cout << "viewer: " << scene.photos.size() << " photographs, " << window_->description() << "\n";
 
     Mesh all = scene.terrain;
@@ -127,6 +127,7 @@ class Viewer {
         if (scene.photos[i].camera.id == o_.camera) {
           found = &scene.photos[i].camera;
           focused_ = int(i);
+          if (renderer_->settings().debug.photo < 0) renderer_->settings().debug.photo = focused_;
         }
       if (!found)
         throw std::invalid_argument("--camera: no view (--views) or photograph has the id '" + o_.camera + "'");
@@ -176,7 +177,12 @@ class Viewer {
     if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false))
       nav_->setMode(nav_->mode() == Mode::Fly ? Mode::Walk : Mode::Fly);
     if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) showPanel_ = !showPanel_;
-    if (ImGui::IsKeyPressed(GLFW_KEY_C, false)) heatMap_ = !heatMap_, settingsChanged_ = true;
+    render::DebugSettings& debug = renderer_->settings().debug;
+    if (ImGui::IsKeyPressed(GLFW_KEY_C, false)) {
+      debug.view = debug.view == render::DebugView::Counts ? render::DebugView::None : render::DebugView::Counts;
+      settingsChanged_ = true;
+    }
+    if (ImGui::IsKeyPressed(GLFW_KEY_F, false)) debug.frusta = !debug.frusta, settingsChanged_ = true;
     if (ImGui::IsKeyPressed(GLFW_KEY_N, false) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) stepPhoto(+1);
     if (ImGui::IsKeyPressed(GLFW_KEY_P, false) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) stepPhoto(-1);
     if (ImGui::IsKeyPressed(GLFW_KEY_F2, false)) screenshotRequested_ = true;
@@ -198,6 +204,8 @@ class Viewer {
 
   void focusOn(int photo) {
     focused_ = photo;
+    renderer_->settings().debug.photo = photo;  // the weight and depth-map views show the chosen one
+    settingsChanged_ = true;
     focusPath_ = std::make_unique<FocusContextPath>(nav_->camera(), session_->scene.photos[size_t(photo)].camera,
                                                     focusSettings_, caster_.get());
     focusStart_ = Clock::now();
@@ -253,6 +261,7 @@ class Viewer {
 
   void drawPanel() {
     render::RenderSettings& rs = renderer_->settings();
+    bool rebuild = false;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSizeConstraints(ImVec2(260, 80), ImVec2(600, std::max(120.0f, ImGui::GetIO().DisplaySize.y - 16)));
@@ -277,7 +286,7 @@ class Viewer {
       float ms = float(movingScale_);
       if (ImGui::SliderFloat("resolution moving", &ms, 0.1f, 1.0f, "%.2f")) movingScale_ = ms;
       ImGui::TextDisabled("WASD/arrows move, Q/E down/up, drag to look,\nshift faster, wheel speed, N/P next/previous "
-                          "photo,\nC heat map, F2 screenshot, R record path, H panel");
+                          "photo,\nC heat map, F frusta, F2 screenshot, R record path, H panel");
     }
 
     if (ImGui::CollapsingHeader("Photographs", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -332,8 +341,9 @@ class Viewer {
         rs.depthBudgetMs = budget;
         changed = true;
       }
+      // Recreating the renderer waits for the end of the panel: `rs` refers to the current one.
       if (ImGui::Combo("depth-map size", &panel_.depthSizeChoice, "256\0" "512\0" "1024\0" "2048\0" "4096\0"))
-        rebuildRenderer();
+        rebuild = true;
       float bg[3] = {float(rs.background.r), float(rs.background.g), float(rs.background.b)};
       if (ImGui::ColorEdit3("fallback colour", bg)) {
         rs.background = {bg[0], bg[1], bg[2]};
@@ -357,42 +367,14 @@ class Viewer {
       changed |= ImGui::Checkbox("dated photographs only", &rs.blend.datedOnly);
       if (!panel_.windowError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", panel_.windowError.c_str());
       settingsChanged_ |= changed;
+      drawLayerSwitches(rs);
     }
+    // Sections the command line asked for (--points, --debug, --frusta) start open.
+    if (rs.points.enabled) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    if (!session_->scene.points.empty() && ImGui::CollapsingHeader("Points")) drawPointControls(rs.points);
 
-    if (ImGui::CollapsingHeader("Debug")) {
-      if (ImGui::Checkbox("contributing images (heat map, C)", &heatMap_)) settingsChanged_ = true;
-      if (heatMap_) ImGui::TextDisabled("dark blue: 1 image ... white: %d images", heatMax_);
-      const auto& plan = renderer_->lastPlan();
-      const auto& used = renderer_->lastImageParams();
-      const int ready = int(plan.images.size()) - st.imagesWaiting;
-      ImGui::ProgressBar(plan.images.empty() ? 1.0f : float(ready) / float(plan.images.size()), ImVec2(-1, 0),
-                         (std::to_string(ready) + " / " + std::to_string(plan.images.size()) + " images in the frame").c_str());
-      ImGui::Text("%d photographs decoded, %d depth maps rendered (%d this frame)", st.imagesLoaded,
-                  st.depthMapsRendered, st.depthMapsThisFrame);
-      ImGui::Text("tile lists: mean %.1f, max %d images", st.meanTileList, st.maxTileList);
-      if (ImGui::BeginTable("images", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY,
-                            ImVec2(0, 160))) {
-        ImGui::TableSetupColumn("photo");
-        ImGui::TableSetupColumn("distance");
-        ImGui::TableSetupColumn("weight");
-        ImGui::TableSetupColumn("state");
-        ImGui::TableHeadersRow();
-        for (const auto& im : plan.images) {
-          const bool inFrame =
-              std::any_of(used.begin(), used.end(), [&](const ibr::ImageParams& p) { return p.photo == im.photo; });
-          ImGui::TableNextRow();
-          ImGui::TableNextColumn();
-          ImGui::TextUnformatted(session_->scene.photos[size_t(im.photo)].camera.id.c_str());
-          ImGui::TableNextColumn();
-          ImGui::Text("%.1f", im.distance);
-          ImGui::TableNextColumn();
-          ImGui::Text("%.4f", im.weight);
-          ImGui::TableNextColumn();
-          ImGui::TextUnformatted(inFrame ? "resident" : "pending");
-        }
-        ImGui::EndTable();
-      }
-    }
+    if (rs.debug.view != render::DebugView::None || rs.debug.frusta) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+    if (ImGui::CollapsingHeader("Debug")) drawDebugPanel(rs.debug);
 
     if (ImGui::CollapsingHeader("Capture")) {
       ImGui::InputText("png", panel_.screenshotName, sizeof panel_.screenshotName);
@@ -407,6 +389,183 @@ class Viewer {
       }
     }
     ImGui::End();
+    if (rebuild) rebuildRenderer();
+  }
+
+  // Masks, lens distortion and the geometry layers (render::LayerSettings): what each contributes.
+  // Masks decode the photographs again; the others redraw the depth maps.
+  void drawLayerSwitches(render::RenderSettings& rs) {
+    const Scene& scene = session_->scene;
+    bool changed = false;
+    ImGui::Separator();
+    changed |= ImGui::Checkbox("masks", &rs.blend.masks);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("off: the photographs are decoded again without their masks");
+    ImGui::SameLine();
+    changed |= ImGui::Checkbox("lens distortion", &rs.layers.lensDistortion);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("off: the photographs are projected as pinholes (no correction)");
+    auto layer = [&](const char* name, bool& on, const Mesh& mesh) {
+      ImGui::BeginDisabled(mesh.triangles.empty());
+      changed |= ImGui::Checkbox(name, &on);
+      ImGui::EndDisabled();
+    };
+    layer("terrain", rs.layers.terrain, scene.terrain);
+    ImGui::SameLine();
+    layer("buildings", rs.layers.buildings, scene.buildings);
+    ImGui::SameLine();
+    layer("mesh", rs.layers.mesh, scene.mesh);
+    settingsChanged_ |= changed;
+  }
+
+  // The point pass (render::PointSettings) for a scene with points; each applies from the next
+  // frame (the sprite form needs a new renderer, and is left to the command line).
+  void drawPointControls(render::PointSettings& ps) {
+    bool changed = false;
+    changed |= ImGui::Checkbox("draw the points", &ps.enabled);
+    int filter = int(ps.filter);
+    if (ImGui::Combo("filter", &filter, "auto\0classification\0epsilon\0none\0")) {
+      ps.filter = render::PointFilter(filter);
+      changed = true;
+    }
+    changed |= autoOrValue("epsilon", ps.epsilon, 5.0f, "%.3f");
+    changed |= ImGui::Checkbox("hide transient points", &ps.hideTransient);
+    changed |= autoOrValue("mesh offset", ps.meshOffset, 5.0f, "%.3f m");
+    int budgetK = int(ps.budget / 1000);
+    if (ImGui::SliderInt("budget (thousands)", &budgetK, 10, 20000, "%d", ImGuiSliderFlags_Logarithmic)) {
+      ps.budget = std::uint64_t(std::max(1, budgetK)) * 1000;
+      changed = true;
+    }
+    float scale = float(ps.radiusScale);
+    if (ImGui::SliderFloat("radius scale", &scale, 0.1f, 4.0f, "%.2f")) {
+      ps.radiusScale = scale;
+      changed = true;
+    }
+    ImGui::Text("%llu points drawn", static_cast<unsigned long long>(renderer_->stats().pointsDrawn));
+    settingsChanged_ |= changed;
+  }
+
+  // A distance whose default (< 0) the renderer derives from the scene's extent: "auto", or a
+  // value in (0, max] scene units.
+  static bool autoOrValue(const char* label, double& value, float max, const char* format) {
+    bool isAuto = value < 0.0, changed = false;
+    ImGui::PushID(label);
+    if (ImGui::Checkbox("auto", &isAuto)) {
+      value = isAuto ? -1.0 : 0.01 * max;
+      changed = true;
+    }
+    ImGui::SameLine();
+    ImGui::BeginDisabled(isAuto);
+    float v = isAuto ? 0.0f : float(value);
+    if (ImGui::SliderFloat(label, &v, 0.0f, max, isAuto ? "auto" : format, ImGuiSliderFlags_Logarithmic)) {
+      value = v;
+      changed = true;
+    }
+    ImGui::EndDisabled();
+    ImGui::PopID();
+    return changed;
+  }
+
+  // Debug views (render::DebugSettings), the chosen photograph's state, and the frame's images with
+  // their residency.
+  void drawDebugPanel(render::DebugSettings& debug) {
+    const Scene& scene = session_->scene;
+    const render::RenderStats& st = renderer_->stats();
+    int view = int(debug.view);
+    if (ImGui::Combo("view", &view, "picture\0contributing images (C)\0weight (chosen photo)\0"
+                                    "depth map (chosen photo)\0")) {
+      debug.view = render::DebugView(view);
+      settingsChanged_ = true;
+    }
+    const bool chosen = debug.photo >= 0 && debug.photo < int(scene.photos.size());
+    const char* id = chosen ? scene.photos[size_t(debug.photo)].camera.id.c_str() : "none";
+    switch (debug.view) {
+      case render::DebugView::Counts:
+        ImGui::TextDisabled("black: none ... yellow: %d images", int(renderer_->lastImageParams().size()));
+        break;
+      case render::DebugView::Weight:
+        ImGui::TextDisabled("share of %s in each pixel: purple 0 ... yellow 1", id);
+        if (chosen && st.debugImage < 0) {
+          const auto& images = renderer_->lastPlan().images;
+          const bool selected = std::any_of(images.begin(), images.end(),
+                                            [&](const ibr::SelectedImage& im) { return im.photo == debug.photo; });
+          ImGui::TextDisabled(selected ? "(%s is waiting: decoding or its depth map)"
+                                       : "(%s is not among this frame's K images)", id);
+        }
+        break;
+      case render::DebugView::DepthMap:
+        if (st.debugSlot < 0)
+          ImGui::TextDisabled("%s: %s", id,
+                              chosen ? photoStateName(renderer_->photoState(debug.photo)) : "choose a photograph");
+        else
+          ImGui::TextDisabled("%s: yellow %.1f ... purple %.1f (depth), black: nothing", id, st.debugDepthNear,
+                              st.debugDepthFar);
+        break;
+      case render::DebugView::None:
+        break;
+    }
+    if (ImGui::Checkbox("frusta (F)", &debug.frusta)) settingsChanged_ = true;
+    if (debug.frusta) {
+      ImGui::SameLine();
+      float depth = float(debug.frustumDepth > 0.0 ? debug.frustumDepth : scene.cameraSpacing());
+      ImGui::SetNextItemWidth(150);
+      if (ImGui::SliderFloat("length", &depth, 0.1f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
+        debug.frustumDepth = depth;
+        settingsChanged_ = true;
+      }
+      ImGui::TextDisabled("yellow: this frame's images, cyan: the chosen photo");
+    }
+
+    const auto& plan = renderer_->lastPlan();
+    const int ready = int(plan.images.size()) - st.imagesWaiting;
+    const std::string progress =
+        std::to_string(ready) + " / " + std::to_string(plan.images.size()) + " images in the frame";
+    ImGui::ProgressBar(plan.images.empty() ? 1.0f : float(ready) / float(plan.images.size()), ImVec2(-1, 0),
+                       progress.c_str());
+    ImGui::Text("waiting: %d decoding, %d depth maps; %d resident of %d slots", st.decodesWaiting, st.depthMapsWaiting,
+                st.residentImages, renderer_->sliceCount());
+    ImGui::Text("%d photographs decoded, %d depth maps rendered (%d this frame)", st.imagesLoaded,
+                st.depthMapsRendered, st.depthMapsThisFrame);
+    ImGui::Text("tile lists: mean %.1f, max %d images", st.meanTileList, st.maxTileList);
+    if (ImGui::BeginTable("images", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY,
+                          ImVec2(0, 160))) {
+      ImGui::TableSetupColumn("photo");
+      ImGui::TableSetupColumn("slot");
+      ImGui::TableSetupColumn("distance");
+      ImGui::TableSetupColumn("weight");
+      ImGui::TableSetupColumn("state");
+      ImGui::TableHeadersRow();
+      for (const auto& im : plan.images) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        // A click chooses the photograph for the debug views without moving the camera.
+        if (ImGui::Selectable(scene.photos[size_t(im.photo)].camera.id.c_str(), debug.photo == im.photo,
+                              ImGuiSelectableFlags_SpanAllColumns)) {
+          debug.photo = im.photo;
+          settingsChanged_ = true;
+        }
+        ImGui::TableNextColumn();
+        const int slot = renderer_->slotOf(im.photo);
+        if (slot >= 0) ImGui::Text("%d", slot);
+        else ImGui::TextDisabled("-");
+        ImGui::TableNextColumn();
+        ImGui::Text("%.1f", im.distance);
+        ImGui::TableNextColumn();
+        ImGui::Text("%.4f", im.weight);
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(photoStateName(renderer_->photoState(im.photo)));
+      }
+      ImGui::EndTable();
+    }
+  }
+
+  static const char* photoStateName(render::PhotoState s) {
+    switch (s) {
+      case render::PhotoState::Absent: return "not resident";
+      case render::PhotoState::Decoding: return "decoding";
+      case render::PhotoState::DepthMapPending: return "depth map pending";
+      case render::PhotoState::Ready: return "ready";
+      case render::PhotoState::Broken: return "broken";
+    }
+    return "";
   }
 
   void updateThumbnail() {
@@ -483,12 +642,7 @@ class Viewer {
       }
       if (needRender) {
         const auto r0 = Clock::now();
-        const render::RenderOutput out = renderer_->render(view, heatMap_, render::FrameMode::Progressive);
-        if (heatMap_) {
-          heatImage_ = colorMapCounts(out.counts);
-          heatMax_ = 0;
-          for (auto c : out.counts.data) heatMax_ = std::max(heatMax_, int(c));
-        }
+        renderer_->render(view, false, render::FrameMode::Progressive);
         lastRenderMs_ = msSince(r0);
         rendered = cam;
         renderedScale = scale;
@@ -500,10 +654,8 @@ class Viewer {
       glViewport(0, 0, fb.x, fb.y);
       glClearColor(0.f, 0.f, 0.f, 1.f);
       glClear(GL_COLOR_BUFFER_BIT);
-      if (heatMap_ && !heatImage_.empty())
-        presenter_->presentImage(heatImage_, fb);
-      else if (renderer_->colorTexture())
-        presenter_->blitFlipped(renderer_->colorTexture(), renderedSize_, fb);
+      // The picture, or the debug view the renderer drew in its place.
+      if (renderer_->colorTexture()) presenter_->blitFlipped(renderer_->colorTexture(), renderedSize_, fb);
 
       const bool converged = renderer_->converged() && renderedScale == 1.0 && !focusPath_;
       const bool finalShot = o_.exitAfterConverge && converged && !o_.screenshot.empty();
@@ -581,9 +733,6 @@ class Viewer {
   Clock::time_point focusStart_;
   PanelState panel_;
   bool showPanel_ = true;
-  bool heatMap_ = false;
-  int heatMax_ = 0;
-  Image8 heatImage_;
   bool settingsChanged_ = false;
   bool screenshotRequested_ = false;
   bool recording_ = false;
