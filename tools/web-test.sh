@@ -6,8 +6,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
-for pkg in emscripten chromium nodejs npm; do
-  dpkg -s "$pkg" >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq --no-install-recommends "$pkg"; }
+# By command, not by package: a machine may have Node.js and npm from elsewhere (NodeSource's
+# nodejs bundles npm and conflicts with Debian's npm package).
+for need in emcc:emscripten chromium:chromium node:nodejs npm:npm; do
+  command -v "${need%%:*}" >/dev/null 2>&1 ||
+    { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${need#*:}"; }
 done
 bash tools/build.sh -DHV_BUILD_BENCH=OFF
 bash tools/web-build.sh
