@@ -113,6 +113,15 @@ expect_out eval "nearest"
 expect_out eval "mean +blend +[0-9]"
 check "eval wrote e.json with \"methods\"" grep -q '"methods"' "$DIR/e.json"
 
+# --- eval --seams (measured on real panoramas in src/hv/eval/paris_seams_test.cpp): a panorama id
+# that no photograph ends with is an error naming it
+run seams-none eval "$city/scene.json" --seams no-such-pano
+expect_rc "eval --seams with an unknown panorama" fail
+expect_out "eval --seams with an unknown panorama" "no-such-pano"
+run seams-views eval "$city/scene.json" --seams p1 --leave-one-out
+expect_rc "eval --seams with --leave-one-out" fail
+expect_out "eval --seams with --leave-one-out" "seams"
+
 # --- broken inputs: clean errors, never a crash
 printf 'this is { not JSON' >"$DIR/not-json.json"
 run bad-scene info "$DIR/not-json.json"

@@ -2,6 +2,9 @@
 
 #include "hv/app/common.h"
 #include "hv/eval/evaluate.h"
+#include "hv/eval/seams.h"
+#include "hv/image/image.h"
+#include "hv/io/scene_loader.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -19,12 +22,54 @@ struct EvalCommandOptions {
   std::vector<std::string> methods{"blend"};
   std::string json;
   bool leaveOneOut = false;
+  std::vector<std::string> seams;  // panorama ids: the photographs whose id ends with one form its rig
+  std::vector<double> seamRadii{10.0, 30.0, 1000.0};
 };
 
+// eval --seams: the misalignment between overlapping cameras of each panorama on the background
+// sphere (hv/eval/seams.h), on the CPU; no renderer.
+int runSeams(const EvalCommandOptions& o) {
+  Diagnostics diag;
+  const Scene scene = loadScene(o.view.scenePath, diag);
+  std::vector<eval::SeamResult> all;
+  for (const std::string& pano : o.seams) {
+    std::vector<const Photo*> rig;
+    for (const Photo& p : scene.photos)
+      if (p.camera.id.ends_with(pano)) rig.push_back(&p);
+    if (rig.size() < 2)
+      throw std::invalid_argument("eval --seams " + pano + ": " + std::to_string(rig.size()) +
+                                  " photograph(s) of " + o.view.scenePath +
+                                  " have an id ending with it; a panorama needs 2 or more");
+    std::vector<ImageF> greys;
+    glm::dvec3 centre(0.0);
+    for (const Photo* p : rig) {
+      greys.push_back(eval::greyImage(readImage(p->imagePath, 3)));
+      centre += p->camera.center;
+    }
+    centre /= double(rig.size());  // the rig's centre stands for the panorama's position
+    std::vector<eval::SeamPhoto> photos;
+    for (size_t i = 0; i < rig.size(); ++i) photos.push_back({&rig[i]->camera, &greys[i]});
+    for (double radius : o.seamRadii) {
+      eval::SeamSettings settings;
+      settings.sphereRadius = radius;
+      const std::vector<eval::SeamResult> r = eval::measureRigSeams(photos, centre, settings);
+      all.insert(all.end(), r.begin(), r.end());
+    }
+  }
+  std::cout << eval::formatSeamTable(all);
+  if (all.empty()) return 2;
+  return diag.ok() ? 0 : 1;
+}
+
 int runEval(const EvalCommandOptions& o) {
+  if (!o.seams.empty()) {
+    if (o.leaveOneOut || !o.view.viewsPath.empty())
+      throw std::invalid_argument("eval: --seams takes neither --views nor --leave-one-out");
+    return runSeams(o);
+  }
   Diagnostics diag;
   if (o.leaveOneOut == !o.view.viewsPath.empty())
-    throw std::invalid_argument("eval: give either --views (with --truth) or --leave-one-out");
+    throw std::invalid_argument("eval: give either --views (with --truth), --leave-one-out or --seams");
   if (!o.leaveOneOut && o.truth.empty()) throw std::invalid_argument("eval: --views needs --truth");
   eval::EvalOptions opt;
   opt.truthDir = o.truth;
@@ -60,6 +105,13 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::ExistingDirectory);
   cmd->add_flag("--leave-one-out", o->leaveOneOut,
                 "score each photograph rendered from the other photographs (instead of --views/--truth)");
+  cmd->add_option("--seams", o->seams,
+                  "measure the seams between the overlapping cameras of these panoramas (photographs whose id "
+                  "ends with a given id; comma separated) on the background sphere, instead of rendering")
+      ->delimiter(',');
+  cmd->add_option("--seam-radii", o->seamRadii, "--seams: background sphere radii, scene units (default 10,30,1000)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--method", o->methods, "blend, nearest, no-occlusion (comma separated to compare)")
       ->delimiter(',');
   cmd->add_option("--json", o->json, "also write the report as JSON");

@@ -1,8 +1,9 @@
 // Real street panoramas (../shared/data/paris-stereopolis, iTowns oriented images, no geometry):
 // rendered from the rig's own cameras on the background sphere, each camera reproduces its
-// photograph; the seams between neighbouring cameras of one panorama are measured and reported
-// (the calibration itself leaves seams of 10-25 px; a bound would not tell a right model from a
-// wrong one, so none is asserted).
+// photograph; the gaps and overlaps between neighbouring cameras of one panorama are reported.
+// How far apart two cameras put the same content (the calibration itself leaves seams of 10-25 px;
+// a bound would not tell a right model from a wrong one, so none is asserted) is measured on the
+// CPU by hv/eval/seams.h (ParisSeams in src/hv/eval/paris_seams_test.cpp, docs/evaluation.md).
 #include "hv/eval/metrics.h"
 #include "hv/image/image.h"
 #include "hv/io/scene_loader.h"
