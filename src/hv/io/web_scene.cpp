@@ -34,6 +34,7 @@ glm::dvec3 vec3Of(const json& j, const std::string& where) {
 
 template <typename T>
 void appendRaw(std::string& out, const std::vector<T>& v) {
+  if (v.empty()) return;  // data() may be null
   out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
@@ -202,6 +203,7 @@ PointCloud parseWebPoints(const std::uint8_t* data, std::size_t size, const glm:
                    .classification = (bits & kClassification) != 0,
                    .rgb = (bits & kRgb) != 0,
                    .normals = (bits & kNormals) != 0});
+  if (n == 0) return cloud;  // no array to copy (and memcpy must not see their null data())
   {
     const std::uint8_t* at = array(12);
     std::vector<float> pos(3 * n);
