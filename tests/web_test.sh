@@ -5,9 +5,10 @@
 #
 # Builds the WebAssembly version when missing (tools/web-build.sh), installs playwright-core into
 # tests/web/node_modules when missing (npm; it never downloads a browser), generates a small demo
-# city, exports it (histoview web-export), renders a held-out view natively as the reference,
-# serves the export on localhost and runs tests/web/web_test.mjs against it: loading completes,
-# no page errors, the canvas matches the native render, moving changes the picture.
+# city, exports it (histoview web-export), renders a held-out view natively as the reference
+# (with and without its lidar points), serves the export on localhost and runs
+# tests/web/web_test.mjs against it: loading completes, no page errors, the canvas matches the
+# native render with points and without, the point controls work, moving changes the picture.
 # Exits 77 (skipped) when emcc, chromium, node or npm (or the npm package) are not available.
 # For measurements: HV_WEB_SIZE=W (canvas width, default 320), HV_WEB_MEASURE=N (the median frame
 # time of N frames), HV_WEB_SCREENSHOT=FILE (the whole page).
@@ -61,6 +62,10 @@ print(c["id"], w, round(w * c["height"] / c["width"]))' "$city/views.json" "${HV
 "$HV" render "$city/scene.json" --views "$city/views.json" --size "${w}x${h}" --k 8 --out "$DIR/render" \
   >"$DIR/render.out" 2>&1 || { echo "FAIL: histoview render"; cat "$DIR/render.out"; exit 1; }
 cp "$DIR/render/$id.png" "$DIR/web/reference.png"
+# The same view with the demo's lidar scan as textured sprites (the page draws them by default).
+"$HV" render "$city/scene.json" --views "$city/views.json" --size "${w}x${h}" --k 8 --points --out "$DIR/render-points" \
+  >"$DIR/render-points.out" 2>&1 || { echo "FAIL: histoview render --points"; cat "$DIR/render-points.out"; exit 1; }
+cp "$DIR/render-points/$id.png" "$DIR/web/reference-points.png"
 
 # A static server on a free port.
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')

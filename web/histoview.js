@@ -3,6 +3,8 @@
 // (web/hv_web.cpp) from requestAnimationFrame. No framework. URL parameters:
 //   camera=ID  start at this view (views.json) or photograph; default: an overview
 //   w=, h=     canvas size (default 960x540); k=, depth= (depth-map size, default 1024)
+//   points=0   start with the point cloud hidden (default: shown when the scene has one)
+//   log=debug  the renderer's log level in the console (debug, info, warn, error, off)
 // For scripts and tests, window.hv exposes the state (loaded, progress, errors) and a few calls.
 'use strict';
 
@@ -11,8 +13,10 @@
   const intParam = (name, def) => { const v = parseInt(params.get(name), 10); return Number.isFinite(v) && v > 0 ? v : def; };
   const W = intParam('w', 960), H = intParam('h', 540);
   const K = intParam('k', 8), DEPTH = intParam('depth', 1024);
+  const POINTS = params.get('points') !== '0';
   const ROOT = '/scene/';
   const FETCHES_IN_FLIGHT = 4;
+  const SCENE_SHARE = 0.1;  // of the progress bar: the scene files; the photographs take the rest
 
   const $ = (id) => document.getElementById(id);
   const canvas = $('view');
@@ -48,11 +52,30 @@
     }
   }
 
-  async function fetchBytes(url) {
+  // onBytes(n): called as the body arrives, n bytes at a time (for the progress bar).
+  async function fetchBytes(url, onBytes) {
     const r = await fetch(url);
     if (!r.ok) throw new Error(url + ': HTTP ' + r.status);
-    return new Uint8Array(await r.arrayBuffer());
+    if (!onBytes || !r.body) {
+      const bytes = new Uint8Array(await r.arrayBuffer());
+      if (onBytes) onBytes(bytes.length);
+      return bytes;
+    }
+    const reader = r.body.getReader(), parts = [];
+    let n = 0;
+    for (;;) {
+      const { done, value } = await reader.read();
+      if (done) break;
+      parts.push(value);
+      n += value.length;
+      onBytes(value.length);
+    }
+    const bytes = new Uint8Array(n);
+    let at = 0;
+    for (const p of parts) { bytes.set(p, at); at += p.length; }
+    return bytes;
   }
+  const megabytes = (n) => (n / 1048576).toFixed(1) + ' MB';
 
   async function main() {
     if (typeof createHistoview !== 'function')
@@ -63,15 +86,27 @@
       printErr: (t) => { console.warn(t); if (/^error/i.test(t)) showError(t); },
     });
     const FS = Module.FS;
+    if (params.get('log')) Module.setLogLevel(params.get('log'));
     const put = (rel, bytes) => { mkdirs(FS, ROOT + rel); FS.writeFile(ROOT + rel, bytes); };
 
-    // The scene: manifest, meshes, cameras (and the optional views).
+    // The scene: manifest, meshes, points, cameras (and the optional views). The progress bar's
+    // first SCENE_SHARE counts their bytes (the sizes the manifest gives; cameras.json is small).
     setProgress(0, 'loading the scene…');
     const manifestBytes = await fetchBytes('scene_web.json');
     put('scene_web.json', manifestBytes);
     const manifest = JSON.parse(new TextDecoder().decode(manifestBytes));
     const sceneFiles = manifest.meshes.map((m) => m.path).concat([manifest.cameras || 'cameras.json']);
-    await Promise.all(sceneFiles.map(async (f) => put(f, await fetchBytes(f))));
+    if (manifest.points) sceneFiles.push(manifest.points.path);
+    const expected = manifest.meshes.reduce((n, m) => n + 12 * (m.vertices + m.triangles) + (m.tags ? 4 * m.triangles : 0), 0) +
+                     (manifest.points ? manifest.points.bytes || 0 : 0);
+    let received = 0;
+    const sceneProgress = (n) => {
+      received += n;
+      const f = Math.min(1, received / Math.max(1, expected));
+      setProgress(SCENE_SHARE * f, `scene ${megabytes(received)} / ${megabytes(expected)}` +
+                  (manifest.points ? `, ${manifest.points.count.toLocaleString('en')} points` : ''));
+    };
+    await Promise.all(sceneFiles.map(async (f) => put(f, await fetchBytes(f, sceneProgress))));
     let haveViews = false;
     try { put('views.json', await fetchBytes('views.json')); haveViews = true; } catch (e) { /* optional */ }
 
@@ -80,6 +115,9 @@
     const loadErrors = viewer.load(ROOT + 'scene_web.json', K, DEPTH);
     if (loadErrors) loadErrors.trim().split('\n').forEach(showError);
     console.log('histoview: ' + viewer.glInfo());
+    const st = JSON.parse(viewer.status());
+    console.log(`histoview: scene read in ${st.sceneMs.toFixed(0)} ms` +
+                (st.points ? ` (${st.points} points in ${st.chunks} chunks)` : ''));
 
     const camera = params.get('camera');
     if (camera) {
@@ -89,6 +127,12 @@
       viewer.overview(W, H);
     }
     $('speed').value = viewer.speed().toFixed(1);
+    if (viewer.hasPoints()) {
+      $('points-panel').hidden = false;
+      $('points').checked = POINTS;
+      viewer.setPoints(POINTS);
+      if (manifest.points) $('points-count').textContent = '(' + manifest.points.count.toLocaleString('en') + ')';
+    }
 
     const photos = JSON.parse(viewer.photos());
     buildPhotoList(viewer, photos);
@@ -148,6 +192,9 @@
     $('lens').addEventListener('change', (e) => viewer.setLensDistortion(e.target.checked));
     for (const layer of ['terrain', 'buildings', 'mesh'])
       $(layer).addEventListener('change', (e) => viewer.setLayer(layer, e.target.checked));
+    $('points').addEventListener('change', (e) => viewer.setPoints(e.target.checked));
+    $('hide-transient').addEventListener('change', (e) => viewer.setHideTransient(e.target.checked));
+    $('point-filter').addEventListener('change', (e) => viewer.setPointFilter(e.target.value));
     $('frusta').addEventListener('change', (e) => viewer.setFrusta(e.target.checked));
     $('debug-view').addEventListener('change', (e) => viewer.setDebugView(e.target.value));
 
@@ -163,12 +210,14 @@
       for (; lastErrors < s.errors.length; ++lastErrors) showError(s.errors[lastErrors]);
       const fetched = done / Math.max(1, order.length);
       const complete = done === order.length && s.converged;
-      setProgress(complete ? 1 : 0.95 * fetched, complete ? 'loaded' :
+      setProgress(complete ? 1 : SCENE_SHARE + (0.95 - SCENE_SHARE) * fetched, complete ? 'loaded' :
                   `photographs ${s.arrived}/${s.photos}, ${s.imagesLoaded || 0} decoded`);
       $('loading').hidden = complete;
       if (complete && !hv.loaded) { hv.loaded = true; console.log('histoview: loading complete'); }
       $('status').textContent = `frame ${s.lastFrameMs.toFixed(1)} ms\nimages ${s.selected || 0} selected, ` +
-        `${s.waiting || 0} waiting\ndepth maps ${s.depthMaps || 0}\n${s.converged ? 'converged' : 'refining…'}`;
+        `${s.waiting || 0} waiting\ndepth maps ${s.depthMaps || 0}\n` +
+        (s.points ? `points ${(s.pointsDrawn || 0).toLocaleString('en')} drawn\n` : '') +
+        (s.converged ? 'converged' : 'refining…');
       const f = viewer.focused();
       document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('focused', +li.dataset.index === f));
       requestAnimationFrame(tick);

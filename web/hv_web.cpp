@@ -1,7 +1,8 @@
 // The browser entry (docs/web.md): a WebGL2 context on the page's canvas and the same
 // hv::render::Renderer as `render` and the desktop viewer, driven from JavaScript through embind.
 // Platform code only: the page (web/histoview.js) fetches the export over HTTP and writes what
-// arrives into Emscripten's in-memory file system; this class reads the scene from there, and a
+// arrives into Emscripten's in-memory file system; this class reads the scene (meshes, points,
+// cameras) from there, and a
 // photograph joins the selection once its bytes have arrived (photoArrived). No threads: the
 // renderer decodes on this thread (decodeThreads 0), at most one photograph per frame, so the
 // picture improves from frame to frame while the page stays responsive.
@@ -10,6 +11,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/web_scene.h"
 #include "hv/render/renderer.h"
+#include "hv/util/log.h"
 #include "hv/viewer/navigation.h"
 
 #include <emscripten.h>
@@ -68,9 +70,14 @@ class WebViewer {
       Diagnostics diag;
       WebSceneOptions options;
       options.checkImageFiles = false;  // the images are fetched afterwards
+      const auto t0 = std::chrono::steady_clock::now();
       scene_ = std::make_unique<Scene>(readWebScene(manifest, options, diag));
+      sceneMs_ = msSince(t0);  // the points' chunk organisation (hv::organizeChunks) included
       render::RenderSettings s;
       s.decodeThreads = 0;
+      // The points as `render --points` draws them (its defaults), uploaded at the first frame
+      // that shows them: on when the scene has some, switched from the page (setPoints).
+      s.points.enabled = !scene_->points.empty();
       s.blend.k = k;
       s.depthSize = depthSize;
       s.readBackColour = false;
@@ -211,6 +218,18 @@ class WebViewer {
     (layer == "terrain" ? l.terrain : layer == "buildings" ? l.buildings : l.mesh) = on;
     dirty_ = true;
   }
+  // The point pass (render/renderer.h PointSettings); no effect on a scene without points.
+  bool hasPoints() const { return scene_ && !scene_->points.empty(); }
+  void setPoints(bool on) { renderer_->settings().points.enabled = on && hasPoints(); dirty_ = true; }
+  void setHideTransient(bool on) { renderer_->settings().points.hideTransient = on; dirty_ = true; }
+  // "auto", "class", "epsilon" or "none" (the `--point-filter` values).
+  void setPointFilter(const std::string& filter) {
+    renderer_->settings().points.filter = filter == "class"     ? render::PointFilter::Classification
+                                          : filter == "epsilon" ? render::PointFilter::Epsilon
+                                          : filter == "none"    ? render::PointFilter::None
+                                                                : render::PointFilter::Auto;
+    dirty_ = true;
+  }
   void setFrusta(bool on) { renderer_->settings().debug.frusta = on; dirty_ = true; }
   // "picture", "count", "weight" or "depth" (the last two of the focused photograph).
   void setDebugView(const std::string& view) {
@@ -257,8 +276,9 @@ class WebViewer {
     return true;
   }
 
-  // {"converged", "arrived", "photos", "frames", "lastFrameMs", "imagesLoaded", "depthMaps",
-  //  "waiting", "errors": [...]} (errors: photographs that failed to decode, and fatal ones).
+  // {"converged", "arrived", "photos", "frames", "lastFrameMs", "sceneMs", "points", "chunks",
+  //  "imagesLoaded", "depthMaps", "waiting", "pointsDrawn", "errors": [...]} (errors: photographs
+  //  that failed to decode, and fatal ones).
   std::string status() const {
     json s = {{"converged", renderer_ ? renderer_->converged() : false},
               {"arrived", arrived_},
@@ -266,6 +286,9 @@ class WebViewer {
               {"frames", frames_},
               {"lastFrameMs", lastFrameMs_},
               {"focusing", bool(focusPath_)},
+              {"sceneMs", sceneMs_},
+              {"points", scene_ ? scene_->points.size() : 0},
+              {"chunks", scene_ ? scene_->points.chunks.size() : 0},
               {"errors", diag_.errors}};
     if (!error_.empty()) s["errors"].push_back(error_);
     if (renderer_) {
@@ -274,6 +297,7 @@ class WebViewer {
       s["depthMaps"] = st.depthMapsRendered;
       s["waiting"] = st.imagesWaiting;
       s["selected"] = renderer_->lastPlan().images.size();
+      s["pointsDrawn"] = renderer_->settings().points.enabled ? st.pointsDrawn : 0;
     }
     return s.dump();
   }
@@ -314,10 +338,21 @@ class WebViewer {
   int arrived_ = 0;
   int frames_ = 0;
   double lastFrameMs_ = 0.0;
+  double sceneMs_ = 0.0;
   bool dirty_ = true;
 };
 
+// "debug", "info" (the default), "warn", "error" or "off": what hv::log prints to the console.
+void setLogLevel(const std::string& level) {
+  log::setLevel(level == "debug"  ? log::Level::Debug
+                : level == "warn"  ? log::Level::Warn
+                : level == "error" ? log::Level::Error
+                : level == "off"   ? log::Level::Off
+                                   : log::Level::Info);
+}
+
 EMSCRIPTEN_BINDINGS(histoview) {
+  emscripten::function("setLogLevel", &setLogLevel);
   emscripten::class_<WebViewer>("WebViewer")
       .constructor<std::string>()
       .function("error", &WebViewer::error)
@@ -342,6 +377,10 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("setMasks", &WebViewer::setMasks)
       .function("setLensDistortion", &WebViewer::setLensDistortion)
       .function("setLayer", &WebViewer::setLayer)
+      .function("hasPoints", &WebViewer::hasPoints)
+      .function("setPoints", &WebViewer::setPoints)
+      .function("setHideTransient", &WebViewer::setHideTransient)
+      .function("setPointFilter", &WebViewer::setPointFilter)
       .function("setFrusta", &WebViewer::setFrusta)
       .function("setDebugView", &WebViewer::setDebugView)
       .function("frame", &WebViewer::frame)

@@ -5,6 +5,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/scene_loader.h"
 #include "hv/io/web_scene.h"
+#include "hv/points/chunks.h"
 
 #include <CLI/CLI.hpp>
 
@@ -54,7 +55,9 @@ int copyPageFiles(const fs::path& from, const fs::path& to, const std::vector<st
 
 int runWebExport(const WebExportOptions& o) {
   Diagnostics diag;
-  const Scene scene = loadScene(o.scenePath, diag);
+  Scene scene = loadScene(o.scenePath, diag);
+  const std::size_t sourcePoints = scene.points.size();
+  if (o.maxPoints > 0 && scene.points.size() > o.maxPoints) scene.points = subsampleChunks(scene.points, o.maxPoints);
   const fs::path out(o.out);
   fs::create_directories(out / "images");
   std::vector<Photo> photos;
@@ -102,8 +105,13 @@ int runWebExport(const WebExportOptions& o) {
   const int wasm = copyPageFiles(wasmDir, out, {"histoview_web.js", "histoview_web.wasm"});
 
   size_t triangles = scene.terrain.triangles.size() + scene.buildings.triangles.size() + scene.mesh.triangles.size();
-  std::cout << "web export in " << out.string() << ": " << triangles << " triangles, " << photos.size()
-            << " photographs" << (anyMask ? " with masks" : "") << "\n";
+  std::cout << "web export in " << out.string() << ": " << triangles << " triangles, ";
+  if (sourcePoints > 0) {
+    std::cout << scene.points.size();
+    if (scene.points.size() < sourcePoints) std::cout << " of " << sourcePoints;
+    std::cout << " points (" << scene.points.fields().describe() << "), ";
+  }
+  std::cout << photos.size() << " photographs" << (anyMask ? " with masks" : "") << "\n";
   if (page == 0) std::cout << "note: no page copied (no index.html in " << pageDir.string() << ")\n";
   if (wasm < 2)
     std::cout << "note: the WebAssembly build is missing (" << wasmDir.string()
@@ -115,7 +123,8 @@ int runWebExport(const WebExportOptions& o) {
 
 void addWebExportCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand(
-      "web-export", "write a static folder for the browser: triangulated meshes, cameras, JPEG photographs, the page");
+      "web-export",
+      "write a static folder for the browser: triangulated meshes, points, cameras, JPEG photographs, the page");
   auto o = std::make_shared<WebExportOptions>();
   cmd->add_option("scene", o->scenePath, "scene.json")->required()->check(CLI::ExistingFile);
   cmd->add_option("out", o->out, "output directory (created)")->required();
@@ -125,6 +134,9 @@ void addWebExportCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--wasm", o->wasmDir, "the Emscripten build's output (default: the source tree's build-web/dist)");
   cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality for photographs that are not JPEG (default 90)")
       ->check(CLI::Range(1, 100));
+  cmd->add_option("--max-points", o->maxPoints,
+                  "export at most N points of the scene's cloud, a uniform subsample (default: all)")
+      ->check(CLI::PositiveNumber);
   setAction(*cmd, exitCode, [o] { return runWebExport(*o); });
 }
 

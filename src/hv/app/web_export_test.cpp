@@ -1,15 +1,22 @@
 // web-export writes the demo city as a web scene; the portable reader (hv/io/web_scene.h) reads
-// it back to the same geometry and cameras as the native scene loader.
+// it back to the same geometry, points and cameras as the native scene loader. A broken mesh or
+// point file is reported, naming the file and the field, and left out.
 #include "hv/app/web_export_command.h"
 #include "hv/demo/demo_city.h"
 #include "hv/image/image.h"
+#include "hv/io/ply_points.h"
 #include "hv/io/scene_loader.h"
 #include "hv/io/web_scene.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <unistd.h>
 
 namespace hv::app {
@@ -49,11 +56,12 @@ TEST(WebExport, DemoCityRoundTrip) {
   ASSERT_FALSE(web.terrain.empty());
   ASSERT_FALSE(web.buildings.empty());
   // Positions are float32 relative to the origin: the demo city spans a few hundred metres, so
-  // the round trip is exact to well under a millimetre.
-  // The export carries no point cloud (yet): compare with the native scene's geometry and cameras.
-  Scene withoutPoints = native;
-  withoutPoints.points = PointCloud{};
-  const Aabb a = withoutPoints.bounds(), b = web.bounds();
+  // the round trip is exact to well under a millimetre. The bounds include the lidar scan.
+  ASSERT_FALSE(native.points.empty());
+  EXPECT_EQ(web.points.size(), native.points.size());
+  EXPECT_EQ(web.points.fields().describe(), native.points.fields().describe());
+  EXPECT_FALSE(web.points.chunks.empty());
+  const Aabb a = native.bounds(), b = web.bounds();
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(a.lo[i], b.lo[i], 1e-4);
     EXPECT_NEAR(a.hi[i], b.hi[i], 1e-4);
@@ -80,6 +88,156 @@ TEST(WebExport, DemoCityRoundTrip) {
     EXPECT_EQ(fs::path(web.photos[i].imagePath).extension(), ".jpg");
   }
   EXPECT_TRUE(fs::exists(dir / "web" / "views.json"));
+  fs::remove_all(dir);
+}
+
+// A small cloud at Lambert-93 coordinates, every field, through scene.json (PLY) -> web-export ->
+// the portable reader. The intensity numbers the points, so each read-back point finds its source
+// whatever order the chunking left them in.
+TEST(WebExport, PointCloudRoundTrip) {
+  const fs::path dir = fs::temp_directory_path() / ("hv_web_points_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  PointCloud cloud;
+  cloud.resize(3000, {.intensity = true, .classification = true, .rgb = true, .normals = true});
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const double u = double(i % 60), v = double(i / 60);
+    cloud.positions[i] = {651234.567 + 0.37 * u, 6862345.678 + 0.29 * v, 35.2 + 0.013 * double(i % 17)};
+    const glm::vec3 n(std::sin(0.1f * float(i)), std::cos(0.3f * float(i)), float(i % 5) - 2.0f);
+    cloud.normals[i] = i % 10 == 3 ? glm::vec3(0.0f) : glm::normalize(n);  // some without a normal
+    cloud.rgb[i] = {std::uint16_t(i * 37 % 65536), std::uint16_t(65535 - i), std::uint16_t(i * 257 % 65536)};
+    cloud.classification[i] = std::uint8_t(i % 7 == 0 ? 6 : i % 3);
+    cloud.intensity[i] = std::uint16_t(i);
+  }
+  writePlyPoints((dir / "cloud.ply").string(), cloud);
+  std::ofstream(dir / "scene.json") << R"({"crs": "EPSG:2154", "points": {"path": "cloud.ply"}})";
+  WebExportOptions o;
+  o.scenePath = (dir / "scene.json").string();
+  o.out = (dir / "web").string();
+  o.pageDir = (dir / "no-page").string();
+  o.wasmDir = (dir / "no-wasm").string();
+  ASSERT_EQ(runWebExport(o), 0);
+
+  Diagnostics nativeDiag, webDiag;
+  const Scene native = loadScene(o.scenePath, nativeDiag);
+  const Scene web = readWebScene((dir / "web" / kWebSceneManifest).string(), {}, webDiag);
+  EXPECT_TRUE(webDiag.ok()) << (webDiag.errors.empty() ? "" : webDiag.errors[0]);
+  ASSERT_EQ(native.points.size(), cloud.size());
+  ASSERT_EQ(web.points.size(), cloud.size());
+  ASSERT_TRUE(web.points.consistent());
+  ASSERT_EQ(web.points.fields().describe(), "xyz intensity classification rgb normals");
+  EXPECT_FALSE(web.points.chunks.empty());
+  EXPECT_EQ(web.origin, native.origin);
+  std::map<std::uint16_t, std::size_t> nativeIndex;
+  for (std::size_t i = 0; i < native.points.size(); ++i) nativeIndex[native.points.intensity[i]] = i;
+  ASSERT_EQ(nativeIndex.size(), cloud.size());
+  for (std::size_t i = 0; i < web.points.size(); ++i) {
+    SCOPED_TRACE("point " + std::to_string(web.points.intensity[i]));
+    const std::size_t k = nativeIndex.at(web.points.intensity[i]);
+    // Positions: float32 relative to the origin, exactly what the native point pass uploads.
+    const glm::dvec3 nativeOffset = native.points.positions[k] - native.origin;
+    const glm::dvec3 webOffset = web.points.positions[i] - web.origin;
+    ASSERT_EQ(glm::vec3(webOffset), glm::vec3(nativeOffset));
+    ASSERT_LT(glm::distance(web.points.positions[i], native.points.positions[k]), 1e-4);
+    // Normals: snorm16, within half a step (1 / 32767) of the source; none stays none.
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(web.points.normals[i][c], native.points.normals[k][c], 0.5 / 32767 + 1e-6);
+    ASSERT_EQ(web.points.normals[i] == glm::vec3(0.0f), native.points.normals[k] == glm::vec3(0.0f));
+    // Colours: the 8 bits the point pass shows (value / 257), back as value * 257.
+    ASSERT_EQ(web.points.rgb[i], (native.points.rgb[k] / std::uint16_t(257)) * std::uint16_t(257));
+    ASSERT_EQ(web.points.classification[i], native.points.classification[k]);
+  }
+  // The manifest names the file, its count and size.
+  std::ifstream manifestFile(dir / "web" / kWebSceneManifest);
+  const auto manifest = nlohmann::json::parse(manifestFile);
+  EXPECT_EQ(manifest.at("points").at("count").get<std::size_t>(), cloud.size());
+  EXPECT_EQ(manifest.at("points").at("bytes").get<std::uintmax_t>(), fs::file_size(dir / "web" / kWebPointsFile));
+
+  // --max-points: a subsample of the same points.
+  o.maxPoints = 1000;
+  o.out = (dir / "web-1000").string();
+  ASSERT_EQ(runWebExport(o), 0);
+  const Scene sub = readWebScene((dir / "web-1000" / kWebSceneManifest).string(), {}, webDiag);
+  ASSERT_EQ(sub.points.size(), 1000u);
+  for (std::size_t i = 0; i < sub.points.size(); ++i) {
+    const std::size_t k = nativeIndex.at(sub.points.intensity[i]);
+    ASSERT_LT(glm::distance(sub.points.positions[i], native.points.positions[k]), 1e-4);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(WebScene, BrokenPointFilesAreReportedAndLeftOut) {
+  const fs::path dir = fs::temp_directory_path() / ("hv_web_points_broken_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  PointCloud cloud;
+  cloud.resize(10, {.classification = true, .rgb = true, .normals = true});
+  for (std::size_t i = 0; i < cloud.size(); ++i) cloud.positions[i] = {651000.0 + double(i), 6862000.0, 30.0};
+  const std::string good = webPointBytes(cloud, {651000.0, 6862000.0, 0.0});
+  ASSERT_EQ(good.size(), 24u + 10u * (12 + 6 + 3 + 1));
+  // A terrain that loads, so that the rest of the scene is seen to survive a bad point file.
+  std::string terrain;
+  const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::uint32_t idx[3] = {0, 1, 2};
+  terrain.append(reinterpret_cast<const char*>(tri), sizeof(tri));
+  terrain.append(reinterpret_cast<const char*>(idx), sizeof(idx));
+  std::ofstream(dir / "terrain.bin", std::ios::binary) << terrain;
+  std::ofstream(dir / "cameras.json") << R"({"cameras": []})";
+  auto load = [&](const std::string& bytes, const std::string& pointsEntry) {
+    std::ofstream(dir / "points.bin", std::ios::binary | std::ios::trunc) << bytes;
+    std::ofstream(dir / "scene_web.json") << R"({"format": "histoview-web", "version": 1,
+      "origin": [651000, 6862000, 0],
+      "meshes": [{"name": "terrain", "path": "terrain.bin", "vertices": 3, "triangles": 1}],
+      "points": )" << pointsEntry << R"(, "cameras": "cameras.json"})";
+    Diagnostics diag;
+    const Scene s = readWebScene((dir / "scene_web.json").string(), {}, diag);
+    EXPECT_FALSE(s.terrain.empty());
+    return std::make_pair(s.points.size(), diag.errors);
+  };
+  const std::string entry = R"({"path": "points.bin", "count": 10, "bytes": )" + std::to_string(good.size()) + "}";
+  {
+    const auto [n, errors] = load(good, entry);
+    EXPECT_EQ(n, 10u);
+    EXPECT_TRUE(errors.empty()) << errors[0];
+  }
+  std::string badMagic = good, badVersion = good, badFields = good, hugeCount = good;
+  badMagic[0] = 'X';
+  badVersion[8] = 2;
+  badFields[12] = char(0xff);
+  hugeCount[20] = 1;  // 2^32 + 10 points
+  std::string notFinite = good;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::memcpy(notFinite.data() + 24 + 12 * 4 + 4, &inf, 4);  // point 4's y
+  struct Case {
+    std::string bytes, entry, expect;
+  };
+  const std::string any = R"({"path": "points.bin"})";
+  const Case cases[] = {
+      {good.substr(0, 10), any, "header"},
+      {badMagic, any, "magic"},
+      {badVersion, any, "version"},
+      {badFields, any, "fields"},
+      {hugeCount, any, "count"},
+      {good.substr(0, 24 + 12 * 10 - 1), any, "positions"},
+      {good.substr(0, 24 + 12 * 10 + 5), any, "normals"},
+      {good.substr(0, good.size() - 11), any, "rgb"},
+      {good.substr(0, good.size() - 1), any, "classification"},
+      {good + "xx", any, "trailing bytes"},
+      {notFinite, any, "positions: point 4 is not finite"},
+      {good, R"({"path": "points.bin", "count": 11})", "count"},
+      {good, R"({"path": "points.bin", "bytes": 5})", "points.bytes"},
+      {good, R"({"path": "missing.bin"})", "missing.bin"},
+      {good, R"("points.bin")", "expected"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.expect);
+    const auto [n, errors] = load(c.bytes, c.entry);
+    EXPECT_EQ(n, 0u);
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_NE(errors[0].find(c.expect), std::string::npos) << errors[0];
+    EXPECT_NE(errors[0].find("points left out"), std::string::npos) << errors[0];
+    if (c.entry == any)
+      EXPECT_NE(errors[0].find("points.bin: " + c.expect), std::string::npos) << errors[0];  // the file, then the field
+  }
   fs::remove_all(dir);
 }
 

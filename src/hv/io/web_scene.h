@@ -8,10 +8,25 @@
 //                    "meshes": [{"name": "terrain" | "buildings" | "mesh", "path": "terrain.bin",
 //                                "vertices": V, "triangles": T, "tags": true | false}, ...],
 //                    "buildingValidity": [[first, last], ...],            (days, hv/util/dates.h)
+//                    "points": {"path": "points.bin", "count": N, "bytes": B},  (optional)
 //                    "cameras": "cameras.json"}
 //   NAME.bin        V*3 float32 positions relative to `origin` (render frame), then T*3 uint32
 //                   indices, then (when "tags") T uint32 triangle tags; little-endian, no header.
+//   points.bin      the point cloud (scene.points, in the scene frame, normals as loaded), below.
 //   cameras.json    the native camera file (hv/io/cameras_json.h), image paths relative to it.
+//
+// points.bin, little-endian, every array tightly packed, in this order:
+//   offset 0   8 bytes   magic "HVPOINTS"
+//          8   uint32    version (1)
+//         12   uint32    fields: bit 0 normals, bit 1 intensity, bit 2 rgb, bit 3 classification
+//         16   uint64    N, the number of points (< 2^32)
+//         24   N*3 float32  positions relative to `origin`, as the meshes
+//              N*3 int16    normals (bit 0) as snorm16: round(n * 32767); (0, 0, 0): none
+//              N   uint16   intensity (bit 1)
+//              N*3 uint8    rgb (bit 2): the 16-bit value / 257 (integer division, the 8 bits the
+//                           point pass shows); read back as value * 257
+//              N   uint8    ASPRS classification (bit 3)
+// and nothing after. The arrays come largest element first, so each starts aligned to its size.
 //
 // Positions are stored relative to the origin in float32, as the renderer uploads them, so
 // reading back gives the world positions to float precision of the local coordinates.
@@ -20,13 +35,25 @@
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace hv {
 
 inline constexpr const char* kWebSceneManifest = "scene_web.json";
+inline constexpr const char* kWebPointsFile = "points.bin";
 
-// Writes scene_web.json, the meshes and cameras.json into `dir` (which must exist). The photos'
+// points.bin (above) of `cloud`, positions relative to `origin`.
+std::string webPointBytes(const PointCloud& cloud, const glm::dvec3& origin);
+// Reads points.bin bytes back (positions: origin + the stored float32 offset; not organised into
+// chunks). Throws InputError naming `name` and the field (magic, version, fields, count, an array
+// that runs past the end, trailing bytes, a non-finite position).
+PointCloud parseWebPoints(const std::uint8_t* data, std::size_t size, const glm::dvec3& origin,
+                          const std::string& name);
+
+// Writes scene_web.json, the meshes, points.bin (when the scene has points) and cameras.json into
+// `dir` (which must exist). The photos'
 // imagePath / maskPath are written as given, relative to `dir` when they lie inside it: the
 // caller copies the image files first and passes photos that point at the copies. Throws
 // std::runtime_error naming the file when a write fails.
@@ -37,8 +64,9 @@ struct WebSceneOptions {
   bool checkImageFiles = true;
 };
 
-// Reads a web scene from its manifest path (files beside it). A bad mesh or camera is reported in
-// `diag` and left out; throws InputError when the manifest cannot be read or parsed.
+// Reads a web scene from its manifest path (files beside it). A bad mesh, point file or camera is
+// reported in `diag` and left out; throws InputError when the manifest cannot be read or parsed.
+// The points are organised into chunks (hv::organizeChunks), as the native loader leaves them.
 Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& options, Diagnostics& diag);
 
 }  // namespace hv

@@ -81,6 +81,48 @@ void organizeChunks(PointCloud& cloud, const ChunkSettings& settings) {
   }
 }
 
+PointCloud subsampleChunks(const PointCloud& cloud, std::size_t maxPoints) {
+  if (cloud.size() <= maxPoints) return cloud;
+  if (cloud.chunks.empty()) {
+    PointCloud organised = cloud;
+    organizeChunks(organised);
+    return subsampleChunks(organised, maxPoints);
+  }
+  const PointFields fields = cloud.fields();
+  PointCloud out;
+  out.sourcePath = cloud.sourcePath;
+  out.crs = cloud.crs;
+  out.resize(0, fields);
+  auto take = [&](std::uint32_t i) {
+    out.positions.push_back(cloud.positions[i]);
+    if (fields.intensity) out.intensity.push_back(cloud.intensity[i]);
+    if (fields.classification) out.classification.push_back(cloud.classification[i]);
+    if (fields.rgb) out.rgb.push_back(cloud.rgb[i]);
+    if (fields.normals) out.normals.push_back(cloud.normals[i]);
+  };
+  // Chunk c keeps floor(N S_c / total) - floor(N S_{c-1} / total) points, S_c the count of the
+  // chunks up to c: within one point of its share, and N in all. N < total < 2^32, so the
+  // products fit in 64 bits.
+  const std::uint64_t total = cloud.size(), n = maxPoints;
+  std::uint64_t cumulative = 0, taken = 0;
+  for (const PointChunk& c : cloud.chunks) {
+    cumulative += c.count;
+    const std::uint64_t upTo = n * cumulative / total;
+    const auto keep = std::uint32_t(upTo - taken);
+    taken = upTo;
+    if (keep == 0) continue;
+    PointChunk chunk;
+    chunk.first = std::uint32_t(out.positions.size());
+    chunk.count = keep;
+    for (std::uint32_t i = c.first; i < c.first + keep; ++i) {
+      take(i);
+      chunk.bounds.extend(cloud.positions[i]);
+    }
+    out.chunks.push_back(chunk);
+  }
+  return out;
+}
+
 std::vector<ChunkDraw> selectChunks(const PointCloud& cloud, const Camera& view, std::uint64_t pointBudget) {
   Aabb all;
   for (const PointChunk& c : cloud.chunks) all.extend(c.bounds);

@@ -23,6 +23,14 @@ struct ChunkSettings {
 // count). The chunks cover [0, size()) in order.
 void organizeChunks(PointCloud& cloud, const ChunkSettings& settings = {});
 
+// A uniform subsample of at most `maxPoints` points (all of them when the cloud has no more): a
+// prefix of each chunk, which is a uniform subsample of that chunk since its points are shuffled,
+// the prefixes' lengths proportional to the chunks' counts (cumulative rounding, so they add up to
+// exactly min(maxPoints, size())). The result is organised: its chunks are those prefixes, in the
+// same order, with their bounds recomputed (chunks given no point are dropped). A cloud that is
+// not organised yet is organised (a copy, default settings) first.
+PointCloud subsampleChunks(const PointCloud& cloud, std::size_t maxPoints);
+
 // How many points of a chunk a frame draws: points [first, first + count) of chunk `chunk`.
 struct ChunkDraw {
   std::uint32_t chunk = 0;

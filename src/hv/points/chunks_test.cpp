@@ -91,6 +91,43 @@ TEST(PointChunks, PrefixIsAUniformSubsample) {
   }
 }
 
+TEST(PointChunks, SubsampleKeepsAProportionalPrefixOfEachChunk) {
+  PointCloud c = syntheticCity();
+  organizeChunks(c, {.maxPointsPerChunk = 5000});
+  const std::size_t n = 10007;  // not a divisor of anything: the rounding must still add up
+  const PointCloud s = subsampleChunks(c, n);
+  ASSERT_EQ(s.size(), n);
+  ASSERT_TRUE(s.consistent());
+  ASSERT_EQ(s.intensity.size(), n);
+  std::uint32_t next = 0;
+  size_t source = 0;  // the chunk of `c` that chunk k of `s` was taken from
+  for (const PointChunk& k : s.chunks) {
+    EXPECT_EQ(k.first, next);  // contiguous, in order
+    next += k.count;
+    // Find the source chunk: the one whose first point this prefix starts with.
+    while (source < c.chunks.size() && c.positions[c.chunks[source].first] != s.positions[k.first]) ++source;
+    ASSERT_LT(source, c.chunks.size());
+    const PointChunk& from = c.chunks[source];
+    const double share = double(from.count) * double(n) / double(c.size());
+    EXPECT_LE(std::abs(double(k.count) - share), 1.0);
+    Aabb b;
+    for (std::uint32_t i = 0; i < k.count; ++i) {
+      ASSERT_EQ(s.positions[k.first + i], c.positions[from.first + i]);  // the prefix
+      EXPECT_EQ(s.intensity[k.first + i], c.intensity[from.first + i]);
+      b.extend(s.positions[k.first + i]);
+    }
+    EXPECT_EQ(b.lo, k.bounds.lo);
+    EXPECT_EQ(b.hi, k.bounds.hi);
+    ++source;
+  }
+  EXPECT_EQ(next, n);
+  // Nothing to drop: the cloud as it is.
+  EXPECT_EQ(subsampleChunks(c, c.size()).positions, c.positions);
+  // A cloud not organised yet is organised first.
+  EXPECT_EQ(subsampleChunks(syntheticCity(), 1000).size(), 1000u);
+  EXPECT_FALSE(subsampleChunks(syntheticCity(), 1000).chunks.empty());
+}
+
 TEST(PointChunks, DeterministicForASeed) {
   PointCloud a = syntheticCity(), b = syntheticCity();
   organizeChunks(a);
