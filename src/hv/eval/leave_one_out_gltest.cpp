@@ -15,7 +15,7 @@ namespace {
 
 TEST(LeaveOneOutGlTest, BlendBeatsNearestOnSceaux) {
   const std::string dir = hv::testing::dataset("sceaux");
-  if (dir.empty()) GTEST_SKIP() << "no sceaux/ in " << hv::testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no sceaux/ in ") + hv::testing::dataDir() + " (set HISTOVIEW_DATA)");
   hv::testing::glContext();
   Diagnostics diag;
   const Scene scene = loadScene(dir + "/scene.json", diag);

@@ -27,7 +27,7 @@ double median(std::vector<double> v) {
 
 TEST(ParisSeams, RigMisalignmentIsReportedAtThreeRadii) {
   const std::string dir = testing::dataset("paris-stereopolis");
-  if (dir.empty()) GTEST_SKIP() << "no paris-stereopolis/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no paris-stereopolis/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
   Diagnostics diag;
   const Scene scene = loadScene(dir + "/scene.json", diag);
   ASSERT_TRUE(diag.ok());

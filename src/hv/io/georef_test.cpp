@@ -129,7 +129,7 @@ TEST(Georef, CameraRotationFollowsTheLocalJacobian) {
 // ../shared/data/paris-historical-micmac: the cameras and their Verif/Appuis in Lambert-93.
 TEST(Georef, MicmacCamerasInLambert93StillProjectTheirCheckPoints) {
   const std::string dir = testing::dataset("paris-historical-micmac");
-  if (dir.empty()) GTEST_SKIP() << "paris-historical-micmac not found under " << testing::dataDir();
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("paris-historical-micmac not found under ") + testing::dataDir());
   Diagnostics diag;
   const GeoTransform toL93("EPSG:4978", "EPSG:2154", diag);
   const GeoTransform toEcef("EPSG:4978", "EPSG:4978", diag);

@@ -18,7 +18,7 @@ namespace {
 // same distorted pixels within 0.01 px.
 TEST(ITownsCameras, MatchTheNativeConversionOfStereopolis) {
   const std::string dir = testing::dataset("paris-stereopolis");
-  if (dir.empty()) GTEST_SKIP() << "no paris-stereopolis/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no paris-stereopolis/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
   Diagnostics diag;
   const ITownsSource src{dir + "/itowns/panoramicsMetaDataParis.geojson", dir + "/itowns/cameraCalibration.json",
                          dir + "/itowns/image_url_patterns.json", dir};

@@ -191,7 +191,7 @@ TEST_F(MicmacTest, SceneJsonGeoreferencesAndConvertsToNativeCameras) {
 // ../shared/data/paris-historical-micmac: MicMac's own check points and the ground control points.
 TEST(MicmacRealData, VerifAppuisAndGroundControlPoints) {
   const std::string dir = testing::dataset("paris-historical-micmac");
-  if (dir.empty()) GTEST_SKIP() << "paris-historical-micmac not found under " << testing::dataDir();
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("paris-historical-micmac not found under ") + testing::dataDir());
   Diagnostics diag;
   const auto photos = readMicmacCameras(dir + "/Ori-Aspro", dir, diag);
   EXPECT_TRUE(diag.ok()) << diag.errors.front();

@@ -22,7 +22,7 @@ namespace {
 
 TEST(RealData, DelftFootprintsBecomeClosedLod1BuildingsOnTheDtm) {
   const std::string dir = testing::dataset("delft");
-  if (dir.empty()) GTEST_SKIP() << "no delft/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no delft/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
   Diagnostics diag;
   const Scene scene = loadScene(dir + "/scene.json", diag);
   EXPECT_TRUE(diag.ok());
@@ -50,7 +50,7 @@ TEST(RealData, DelftFootprintsBecomeClosedLod1BuildingsOnTheDtm) {
 
 TEST(RealData, DelftAbsoluteBaseAndTopAttributes) {
   const std::string dir = testing::dataset("delft");
-  if (dir.empty()) GTEST_SKIP() << "no delft/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no delft/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
   // The same footprints with 3dfier's absolute levels (z_base, z_top) instead of the DTM.
   const auto tmp = std::filesystem::temp_directory_path() / ("hv-delft-" + std::to_string(::getpid()));
   std::filesystem::create_directories(tmp);
@@ -83,7 +83,7 @@ TEST(RealData, DelftAbsoluteBaseAndTopAttributes) {
 // it), agree with the load in the data's own CRS.
 TEST(RealData, DelftInUtm31KeepsItsFootprintsOnTheTerrain) {
   const std::string dir = testing::dataset("delft");
-  if (dir.empty()) GTEST_SKIP() << "no delft/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no delft/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
   const auto t0 = std::chrono::steady_clock::now();
   const auto tmp = std::filesystem::temp_directory_path() / ("hv-delft-utm-" + std::to_string(::getpid()));
   std::filesystem::create_directories(tmp);
@@ -159,7 +159,7 @@ TEST(RealData, DelftInUtm31KeepsItsFootprintsOnTheTerrain) {
 
 TEST(RealData, StereopolisCamerasLoadWithTheirImages) {
   const std::string dir = testing::dataset("paris-stereopolis");
-  if (dir.empty()) GTEST_SKIP() << "no paris-stereopolis/ in " << testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no paris-stereopolis/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
   Diagnostics diag;
   const auto photos = readCameraFile(dir + "/cameras.json", CameraFileOptions{}, diag);
   EXPECT_TRUE(diag.ok());

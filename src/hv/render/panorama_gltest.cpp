@@ -26,7 +26,7 @@ class PanoramaGlTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const std::string dir = hv::testing::dataset("paris-stereopolis");
-    if (dir.empty()) GTEST_SKIP() << "paris-stereopolis not found under " << hv::testing::dataDir() << " (HISTOVIEW_DATA)";
+    if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("paris-stereopolis not found under ") + hv::testing::dataDir() + " (HISTOVIEW_DATA)");
     testing::glContext();
     Diagnostics diag;
     scene_ = loadScene(dir + "/scene.json", diag);

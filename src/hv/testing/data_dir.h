@@ -23,4 +23,22 @@ inline std::string dataset(const std::string& name) {
   return std::filesystem::is_directory(p) ? p.string() : std::string();
 }
 
+// True under HISTOVIEW_REQUIRE_DATA=1: the datasets must be there (tools/test.sh sets it when the
+// data folder exists), so a wrong path, a renamed file or a missing folder fails instead of passing
+// as a skip.
+inline bool dataRequired() {
+  const char* env = std::getenv("HISTOVIEW_REQUIRE_DATA");
+  return env && std::string(env) == "1";
+}
+
 }  // namespace hv::testing
+
+// Ends the current test because real data is absent, saying why (`why`: a std::string): a skip,
+// or a failure when the data is required (hv::testing::dataRequired).
+#define HV_SKIP_WITHOUT_DATA(why)                                                         \
+  do {                                                                                    \
+    if (::hv::testing::dataRequired())                                                    \
+      GTEST_FAIL() << (why) << " (HISTOVIEW_REQUIRE_DATA=1: the data must be there)";     \
+    else                                                                                  \
+      GTEST_SKIP() << (why);                                                              \
+  } while (0)
