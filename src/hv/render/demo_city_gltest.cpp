@@ -17,26 +17,8 @@
 namespace hv::render {
 namespace {
 
-struct DemoCity {
-  demo::DemoSummary summary;
-  Scene scene;
-  std::vector<Photo> views;
-};
-
-const DemoCity& demoCity() {
-  static const DemoCity city = [] {
-    DemoCity c;
-    c.summary = demo::generate(demo::DemoOptions{}, testing::makeTempDir("demo-city"));
-    Diagnostics diag;
-    c.scene = loadScene(c.summary.scenePath, diag);
-    EXPECT_TRUE(diag.ok());
-    CameraFileOptions opt;
-    opt.requireImages = false;
-    c.views = readCameraFile(c.summary.viewsPath, opt, diag);
-    return c;
-  }();
-  return city;
-}
+using testing::DemoCity;
+using testing::demoCity;
 
 class DemoCityGlTest : public ::testing::Test {
  protected:

@@ -187,26 +187,8 @@ TEST_F(PointsGlTest, LargestMat3ImageCountThatLinks) {
   EXPECT_LE(k * 9, limits.maxVaryingComponents);
 }
 
-// The demo city with its lidar scan (classes: trees 5, cars 1).
-struct DemoCity {
-  demo::DemoSummary summary;
-  Scene scene;
-  std::vector<Photo> views;
-};
-
-const DemoCity& demoCity() {
-  static const DemoCity city = [] {
-    DemoCity c;
-    c.summary = demo::generate(demo::DemoOptions{}, testing::makeTempDir("points-demo"));
-    Diagnostics diag;
-    c.scene = loadScene(c.summary.scenePath, diag);
-    CameraFileOptions opt;
-    opt.requireImages = false;
-    c.views = readCameraFile(c.summary.viewsPath, opt, diag);
-    return c;
-  }();
-  return city;
-}
+using testing::DemoCity;
+using testing::demoCity;
 
 Camera smallView(const Camera& v, double s) {
   Camera c = v;
@@ -487,7 +469,7 @@ TEST_F(PointsGlTest, RealLidarLoadsAndRenders) {
     EXPECT_GT(r.stats().pointsDrawn, scene.points.size() / 2) << name;
     EXPECT_GT(drawn, std::size_t(1280 * 720 / 10)) << name;
   }
-  if (!any) GTEST_SKIP() << "no delft/ or autzen/ in " << hv::testing::dataDir() << " (set HISTOVIEW_DATA)";
+  if (!any) HV_SKIP_WITHOUT_DATA(std::string("no delft/ or autzen/ in ") + hv::testing::dataDir() + " (set HISTOVIEW_DATA)");
 }
 
 }  // namespace

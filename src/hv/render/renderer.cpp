@@ -56,6 +56,13 @@ gpu::Texture makeRgba8Target(int w, int h) {
   return t;
 }
 
+// Binds `id` to texture unit `unit` and leaves unit 0 active (where uploads bind their textures).
+void bindUnit(int unit, GLenum target, GLuint id) {
+  glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+  glBindTexture(target, id);
+  glActiveTexture(GL_TEXTURE0);
+}
+
 void uploadMat4(GLint loc, const glm::dmat4& m) {
   float f[16];
   for (int c = 0; c < 4; ++c)
@@ -543,17 +550,11 @@ struct Renderer::Impl {
     uploadPointParams(M, view.center - scene.origin);
     const gpu::Program& p = pointColorProgram;
     p.use();
-    glActiveTexture(GL_TEXTURE0 + kUnitImages);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitParams);
-    glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
-    glBindTexture(GL_TEXTURE_2D, viewDepth.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitPointParams);
-    glBindTexture(GL_TEXTURE_2D, pointParamsTexture.id());
-    glActiveTexture(GL_TEXTURE0);
+    bindUnit(kUnitImages, GL_TEXTURE_2D_ARRAY, imageArray.id());
+    bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray.id());
+    bindUnit(kUnitParams, GL_TEXTURE_2D, paramsTexture.id());
+    bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth.id());
+    bindUnit(kUnitPointParams, GL_TEXTURE_2D, pointParamsTexture.id());
     glUniform1i(p.uniform("u_images"), kUnitImages);
     glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
     glUniform1i(p.uniform("u_params"), kUnitParams);
@@ -1113,9 +1114,7 @@ struct Renderer::Impl {
     gpu::checkFramebuffer("tile depth ranges");
     glViewport(0, 0, tiles.x, tiles.y);
     tileDepthProgram.use();
-    glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
-    glBindTexture(GL_TEXTURE_2D, viewDepth.id());
-    glActiveTexture(GL_TEXTURE0);
+    bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth.id());
     glUniform1i(tileDepthProgram.uniform("u_viewDepth"), kUnitViewDepth);
     glUniform2i(tileDepthProgram.uniform("u_depthSize"), depthSz.x, depthSz.y);
     glUniform1i(tileDepthProgram.uniform("u_tileSize"), grid.tileSize);
@@ -1144,11 +1143,9 @@ struct Renderer::Impl {
       std::copy(l.begin(), l.end(), table.begin() + std::ptrdiff_t(size_t(t) * width + 1));
     }
     tileLists = gpu::makeTexture();
-    glActiveTexture(GL_TEXTURE0 + kUnitTileLists);
-    glBindTexture(GL_TEXTURE_2D, tileLists.id());
+    glBindTexture(GL_TEXTURE_2D, tileLists.id());  // uploaded on unit 0, bound to its unit for the shading pass
     glTexImage2D(GL_TEXTURE_2D, 0, GL_R16UI, width, rows, 0, GL_RED_INTEGER, GL_UNSIGNED_SHORT, table.data());
     setNearestClamp(GL_TEXTURE_2D);
-    glActiveTexture(GL_TEXTURE0);
     tilesX = tiles.x;
     checkGlError("tile lists");
   }
@@ -1165,11 +1162,9 @@ struct Renderer::Impl {
         }
       }
     lookupTexture = gpu::makeTexture();
-    glActiveTexture(GL_TEXTURE0 + kUnitLookup);
-    glBindTexture(GL_TEXTURE_2D, lookupTexture.id());
+    glBindTexture(GL_TEXTURE_2D, lookupTexture.id());  // uploaded on unit 0, bound to its unit for the shading pass
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, view.width, view.height, 0, GL_RGBA, GL_FLOAT, lookup.data());
     setNearestClamp(GL_TEXTURE_2D);
-    glActiveTexture(GL_TEXTURE0);
   }
 
   // The background sphere's radius this frame; 0 when there is none (RenderSettings::backgroundSphere).
@@ -1187,26 +1182,18 @@ struct Renderer::Impl {
       for (int k = 0; k < slotCount; ++k) {
         const GLint imageUnit = naiveUnits[size_t(2 * k)], depthUnit = naiveUnits[size_t(2 * k + 1)];
         const int slot = k < int(params.size()) ? params[size_t(k)].layout.slice : 0;
-        glActiveTexture(GLenum(GL_TEXTURE0 + imageUnit));
-        glBindTexture(GL_TEXTURE_2D, naiveImages[size_t(slot)].id());
-        glActiveTexture(GLenum(GL_TEXTURE0 + depthUnit));
-        glBindTexture(GL_TEXTURE_2D, naiveDepths[size_t(slot)].id());
+        bindUnit(imageUnit, GL_TEXTURE_2D, naiveImages[size_t(slot)].id());
+        bindUnit(depthUnit, GL_TEXTURE_2D, naiveDepths[size_t(slot)].id());
         glUniform1i(p.uniform(("u_image" + std::to_string(k)).c_str()), imageUnit);
         glUniform1i(p.uniform(("u_depth" + std::to_string(k)).c_str()), depthUnit);
       }
     } else {
-      glActiveTexture(GL_TEXTURE0 + kUnitImages);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray.id());
-      glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
+      bindUnit(kUnitImages, GL_TEXTURE_2D_ARRAY, imageArray.id());
+      bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray.id());
     }
-    glActiveTexture(GL_TEXTURE0 + kUnitParams);
-    glBindTexture(GL_TEXTURE_2D, paramsTexture.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitViewDepth);
-    glBindTexture(GL_TEXTURE_2D, viewDepth.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitLookup);
-    glBindTexture(GL_TEXTURE_2D, distorted ? lookupTexture.id() : 0);
-    glActiveTexture(GL_TEXTURE0);
+    bindUnit(kUnitParams, GL_TEXTURE_2D, paramsTexture.id());
+    bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth.id());
+    bindUnit(kUnitLookup, GL_TEXTURE_2D, distorted ? lookupTexture.id() : 0);
     if (!naive()) {
       glUniform1i(p.uniform("u_images"), kUnitImages);
       glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
@@ -1215,20 +1202,13 @@ struct Renderer::Impl {
     glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
     glUniform1i(p.uniform("u_idealLookup"), kUnitLookup);
     glUniform1i(p.uniform("u_useLookup"), distorted ? 1 : 0);
-    glActiveTexture(GL_TEXTURE0 + kUnitTileLists);
-    glBindTexture(GL_TEXTURE_2D, cullingThisFrame ? tileLists.id() : 0);
-    glActiveTexture(GL_TEXTURE0);
+    bindUnit(kUnitTileLists, GL_TEXTURE_2D, cullingThisFrame ? tileLists.id() : 0);
     glUniform1i(p.uniform("u_tileLists"), kUnitTileLists);
-    glActiveTexture(GL_TEXTURE0 + kUnitViewBuilding);
-    glBindTexture(GL_TEXTURE_2D, viewBuilding.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitValidity);
-    glBindTexture(GL_TEXTURE_2D, validityTexture.id());
-    glActiveTexture(GL_TEXTURE0);
+    bindUnit(kUnitViewBuilding, GL_TEXTURE_2D, viewBuilding.id());
+    bindUnit(kUnitValidity, GL_TEXTURE_2D, validityTexture.id());
     glUniform1i(p.uniform("u_viewBuilding"), kUnitViewBuilding);
     if (pointsThisFrame) {  // (the naive binding has its photographs on units from 8 up)
-      glActiveTexture(GL_TEXTURE0 + kUnitPointColor);
-      glBindTexture(GL_TEXTURE_2D, pointColor.id());
-      glActiveTexture(GL_TEXTURE0);
+      bindUnit(kUnitPointColor, GL_TEXTURE_2D, pointColor.id());
     }
     // Without points the sampler points at a unit of the same type that is never read.
     glUniform1i(p.uniform("u_pointColor"), pointsThisFrame ? kUnitPointColor : kUnitLookup);
@@ -1331,9 +1311,7 @@ struct Renderer::Impl {
       const glm::dvec2 rectMin = (glm::dvec2(w, h) - rect) / 2.0;
       const gpu::Program& p = debugDepthProgram;
       p.use();
-      glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
-      glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray.id());
-      glActiveTexture(GL_TEXTURE0);
+      bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray.id());
       glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
       glUniform1f(p.uniform("u_slice"), float(slot));
       glUniform2f(p.uniform("u_rectMin"), float(rectMin.x), float(rectMin.y));

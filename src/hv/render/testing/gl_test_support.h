@@ -3,9 +3,12 @@
 // are arbitrary patterns: the GL-vs-CPU tests need any image, not a consistent one.
 #pragma once
 
+#include "hv/demo/demo_city.h"
 #include "hv/gpu/context.h"
 #include "hv/gpu/gl.h"
 #include "hv/image/image.h"
+#include "hv/io/cameras_json.h"
+#include "hv/io/scene_loader.h"
 #include "hv/scene/lod1.h"
 #include "hv/scene/scene.h"
 
@@ -95,6 +98,30 @@ inline Scene streetScene() {
   s.buildings = box("near", -5, 5, 10, 14, 12);
   s.buildings.append(box("far", -15, 15, 30, 34, 20));
   return s;
+}
+
+// The default demo city (with its lidar scan), generated once per test binary and shared by every
+// GL test that needs it: its loaded scene and held-out views (no images; the truth is in
+// summary.truthDir).
+struct DemoCity {
+  demo::DemoSummary summary;
+  Scene scene;
+  std::vector<Photo> views;
+};
+
+inline const DemoCity& demoCity() {
+  static const DemoCity city = [] {
+    DemoCity c;
+    c.summary = demo::generate(demo::DemoOptions{}, makeTempDir("demo-city"));
+    Diagnostics diag;
+    c.scene = loadScene(c.summary.scenePath, diag);
+    EXPECT_TRUE(diag.ok());
+    CameraFileOptions opt;
+    opt.requireImages = false;
+    c.views = readCameraFile(c.summary.viewsPath, opt, diag);
+    return c;
+  }();
+  return city;
 }
 
 }  // namespace hv::testing
