@@ -3,6 +3,8 @@
 // its own executable).
 #pragma once
 
+#include "hv/camera/camera.h"
+
 #include <sched.h>
 #include <unistd.h>
 
@@ -16,6 +18,22 @@
 #include <vector>
 
 namespace hv::bench {
+
+// The frame every renderer benchmark measures.
+inline constexpr int kFrameWidth = 1280, kFrameHeight = 720;
+
+// A held-out view as a 1280x720 frame: scaled to 1280 wide (same aspect) and cropped to the middle
+// 720 rows by moving the principal point, so the field of view is the view's horizontally.
+inline Camera crop720p(const Camera& view) {
+  const int fullHeight = kFrameWidth * view.height / view.width;
+  Camera c = view.resized(kFrameWidth, fullHeight);
+  const double cut = 0.5 * (fullHeight - kFrameHeight);
+  c.height = kFrameHeight;
+  c.principal.y -= cut;
+  if (c.distortion) c.distortion->center.y -= cut;
+  c.id += "@720p";
+  return c;
+}
 
 using Clock = std::chrono::steady_clock;
 

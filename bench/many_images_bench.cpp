@@ -51,9 +51,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using hv::bench::kFrameHeight;
+using hv::bench::kFrameWidth;
+
 // --- Tuning constants -------------------------------------------------------------------------
-constexpr int kFrameWidth = 1280;
-constexpr int kFrameHeight = 720;
 // The street of parts 1-3: a facade of kRows x kCols patches of 1 m, one photograph per patch.
 // The view stands kViewDistance in front of the middle of the facade and sees its full height
 // (24 m) over 42.7 m of its length: ~44 x 24 = 1056 photographs pass the frustum filter, enough

@@ -23,20 +23,13 @@
 
 namespace {
 
-constexpr int kFrameWidth = 1280, kFrameHeight = 720;
+using hv::bench::crop720p;
+using hv::bench::kFrameHeight;
+using hv::bench::kFrameWidth;
+
 constexpr int kFrameK[] = {1, 8, 40};
 constexpr int kManyPhotos = 64;  // K = 40 needs 40 photographs that see the view
 constexpr int kRepeats = 5;      // median of these after one warm-up frame
-
-hv::Camera crop720p(const hv::Camera& view) {
-  const int fullHeight = kFrameWidth * view.height / view.width;
-  hv::Camera c = view.resized(kFrameWidth, fullHeight);
-  const double cut = 0.5 * (fullHeight - kFrameHeight);
-  c.height = kFrameHeight;
-  c.principal.y -= cut;
-  if (c.distortion) c.distortion->center.y -= cut;
-  return c;
-}
 
 double frameMs(hv::render::Renderer& r, const hv::Camera& view) {
   r.render(view);  // warm-up: images, depth maps, shader variants

@@ -42,12 +42,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using hv::bench::crop720p;
+using hv::bench::kFrameHeight;
+using hv::bench::kFrameWidth;
+
 // --- Tuning constants -------------------------------------------------------------------------
 // The frame size of issue 2. The demo views are 4:3 (320x240): they are scaled by 4 to 1280x960
 // and the intrinsics cropped to the middle 720 rows, so the frame is a true 1280x720 one with the
 // same focal length (see crop720p).
-constexpr int kFrameWidth = 1280;
-constexpr int kFrameHeight = 720;
 constexpr int kFrameK[] = {1, 8, 40};  // images blended; the first is the ratio baseline
 // K = 40 needs at least 40 photographs that see the view: a bigger demo city for parts 2 and 3.
 constexpr int kManyPhotos = 64;
@@ -68,19 +70,6 @@ constexpr std::size_t kDepthMemoryBudget = std::size_t(2) << 30;
 
 using namespace hv::bench;
 
-
-// A held-out view as a 1280x720 frame: scaled to 1280x960 (same aspect) and cropped to the middle
-// 720 rows by moving the principal point, so the field of view is the view's horizontally.
-hv::Camera crop720p(const hv::Camera& view) {
-  const int fullHeight = kFrameWidth * view.height / view.width;
-  hv::Camera c = view.resized(kFrameWidth, fullHeight);
-  const double cut = 0.5 * (fullHeight - kFrameHeight);
-  c.height = kFrameHeight;
-  c.principal.y -= cut;
-  if (c.distortion) c.distortion->center.y -= cut;
-  c.id += "@720p";
-  return c;
-}
 
 hv::Aabb geometryBounds(const hv::Scene& scene) {
   hv::Aabb b = scene.terrain.bounds();
