@@ -81,30 +81,32 @@ try {
     console.log(cmp.error ? cmp.error : `${what}: PSNR ${cmp.psnr.toFixed(2)} dB (bound ${bound} dB)`);
     return !cmp.error && cmp.psnr >= bound;
   };
-  // The fraction of the canvas's pixels that differ (by more than 24 levels summed over RGB) from
-  // an earlier canvas, once the page has converged again.
   const canvasUrl = () => page.evaluate(() => document.getElementById('view').toDataURL('image/png'));
-  // (Every control redraws: wait for a frame drawn after the last change, then for convergence.)
+  // The fraction of the canvas's pixels that differ (by more than 24 levels summed over RGB) from
+  // an earlier canvas.
+  const fractionChanged = (beforeUrl) => page.evaluate(async (url) => {
+    const img = new Image();
+    img.src = url;
+    await img.decode();
+    const grab = (src) => {
+      const c = document.createElement('canvas');
+      c.width = src.width; c.height = src.height;
+      const g = c.getContext('2d');
+      g.drawImage(src, 0, 0);
+      return g.getImageData(0, 0, c.width, c.height).data;
+    };
+    const a = grab(document.getElementById('view')), b = grab(img);
+    let changed = 0;
+    for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24) changed++;
+    return changed / (a.length / 4);
+  }, beforeUrl);
+  // The same once the page has converged again (every control redraws: wait for a frame drawn
+  // after the last change, then for convergence).
   const changedSince = async (beforeUrl) => {
     await page.waitForFunction(() => hv.status && hv.status.frames > (window.framesAtChange ?? -1) &&
                                      hv.status.converged && !hv.status.focusing, null, { timeout: 60000, polling: 250 });
     await page.waitForTimeout(300);
-    return page.evaluate(async (url) => {
-      const img = new Image();
-      img.src = url;
-      await img.decode();
-      const grab = (src) => {
-        const c = document.createElement('canvas');
-        c.width = src.width; c.height = src.height;
-        const g = c.getContext('2d');
-        g.drawImage(src, 0, 0);
-        return g.getImageData(0, 0, c.width, c.height).data;
-      };
-      const a = grab(document.getElementById('view')), b = grab(img);
-      let changed = 0;
-      for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24) changed++;
-      return changed / (a.length / 4);
-    }, beforeUrl);
+    return fractionChanged(beforeUrl);
   };
   // The panel's controls, as a user changes them (the page listens to 'change').
   const setControl = (id, value) => page.evaluate(([id, value]) => {
@@ -165,22 +167,7 @@ try {
   await page.evaluate(() => hv.move(0, 1, 0, 40, 0, 0.5));
   await page.waitForFunction(() => hv.status && hv.status.converged && !hv.status.focusing, null, { timeout: 60000, polling: 250 });
   await page.waitForTimeout(300);
-  const diff = await page.evaluate(async (beforeUrl) => {
-    const img = new Image();
-    img.src = beforeUrl;
-    await img.decode();
-    const grab = (src) => {
-      const c = document.createElement('canvas');
-      c.width = src.width; c.height = src.height;
-      const g = c.getContext('2d');
-      g.drawImage(src, 0, 0);
-      return g.getImageData(0, 0, c.width, c.height).data;
-    };
-    const a = grab(document.getElementById('view')), b = grab(img);
-    let changed = 0;
-    for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24) changed++;
-    return changed / (a.length / 4);
-  }, before);
+  const diff = await fractionChanged(before);
   console.log(`after moving: ${(100 * diff).toFixed(1)} % of the pixels changed`);
   check(diff > 0.2, 'moving the camera changes the picture');
   const after = await page.evaluate(() => hv.errors);
