@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  cmake ninja-build g++ pkg-config
+  cmake ninja-build g++ pkg-config ccache
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri   # headless GLES 3 (EGL + Mesa llvmpipe)
   libgdal-dev libproj-dev libgeos-dev                   # rasters, vectors, CRSs; LOD1 triangulation
   libembree-dev                                         # CPU ray casting (demo ground truth, tests)
