@@ -21,7 +21,7 @@
 #include "hv/render/renderer.h"
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include "bench_common.h"
 

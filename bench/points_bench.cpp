@@ -7,7 +7,7 @@
 #include "hv/gpu/context.h"
 #include "hv/gpu/gl.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/render/renderer.h"
 #include "hv/util/diagnostics.h"
 

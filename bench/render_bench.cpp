@@ -15,7 +15,7 @@
 #include "hv/ibr/slice_image.h"
 #include "hv/image/image.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/render/renderer.h"
 #include "hv/util/diagnostics.h"
 

@@ -3,8 +3,8 @@
 // arbitrary polygons).
 #include "fuzz_util.h"
 #include "gdal_drivers.h"
-#include "hv/io/footprints.h"
-#include "hv/scene/lod1.h"
+#include "hv/io/native/footprints.h"
+#include "hv/scene/native/lod1.h"
 
 #include <cmath>
 #include <cstddef>

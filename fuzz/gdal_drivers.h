@@ -3,7 +3,7 @@
 // fuzzed upstream by OSS-Fuzz).
 #pragma once
 
-#include "hv/io/footprints.h"
+#include "hv/io/native/footprints.h"
 
 #include <gdal.h>
 

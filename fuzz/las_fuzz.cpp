@@ -1,7 +1,7 @@
 // Fuzz target: LAS reader (hv::parseLas), then the chunk organisation and a selection on what it
 // read, as scene loading does.
 #include "fuzz_util.h"
-#include "hv/io/las_reader.h"
+#include "hv/io/native/las_reader.h"
 #include "point_cloud_checks.h"
 
 #include <cstddef>

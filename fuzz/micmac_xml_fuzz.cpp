@@ -1,7 +1,7 @@
 // Fuzz target: MicMac XML (hv::parseMicmacOrientation, hv::parseMicmacCalibration, ground control
 // points and their image measures).
 #include "fuzz_util.h"
-#include "hv/io/micmac_cameras.h"
+#include "hv/io/native/micmac_cameras.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // Fuzz target: PLY point reader (hv::parsePlyPoints), then the chunk organisation and a selection
 // on what it read, as scene loading does.
 #include "fuzz_util.h"
-#include "hv/io/ply_points.h"
+#include "hv/io/native/ply_points.h"
 #include "point_cloud_checks.h"
 
 #include <cstddef>

@@ -3,7 +3,7 @@
 // then it is organised into chunks and chunks are selected for a view.
 #pragma once
 
-#include "hv/points/chunks.h"
+#include "hv/scene/chunks.h"
 
 #include <cstdlib>
 #include <functional>

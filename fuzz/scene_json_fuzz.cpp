@@ -4,7 +4,7 @@
 // any other path points nowhere and must give an error, not a crash.
 #include "fuzz_util.h"
 #include "gdal_drivers.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the browser version (docs/web.md): the portable core + web/hv_web.cpp with Debian's
+# Builds the browser version (docs/web.md): the portable core + apps/web/hv_web.cpp with Debian's
 # Emscripten into build-web/dist/histoview_web.{js,wasm}. Installs emscripten (apt) when missing.
 #   bash tools/web-build.sh [extra cmake arguments]
 set -euo pipefail

@@ -1,6 +1,6 @@
 // The page (docs/web.md): fetches the export made by `histoview web-export` over HTTP, writes what
 // arrives into the WebAssembly module's in-memory file system, and drives hv::render::Renderer
-// (web/hv_web.cpp) from requestAnimationFrame. No framework. URL parameters:
+// (apps/web/hv_web.cpp) from requestAnimationFrame. No framework. URL parameters:
 //   camera=ID  start at this view (views.json) or photograph; default: an overview
 //   w=, h=     canvas size (default 960x540); k=, depth= (depth-map size, default 1024)
 //   points=0   start with the point cloud hidden (default: shown when the scene has one)

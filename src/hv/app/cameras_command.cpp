@@ -1,8 +1,8 @@
 #include "hv/app/cameras_command.h"
 
-#include "hv/app/common.h"
+#include "hv/session/session.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 
 #include <CLI/CLI.hpp>
 

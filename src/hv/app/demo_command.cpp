@@ -3,16 +3,16 @@
 // baselines on the ground truth.
 #include "hv/app/demo_command.h"
 
-#include "hv/app/common.h"
+#include "hv/session/session.h"
 
 #include "hv/demo/demo_city.h"
 #include "hv/eval/evaluate.h"
 #include "hv/gpu/context.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 
-#include "hv/app/common.h"
-#include "hv/image/png_write.h"
+#include "hv/session/session.h"
+#include "hv/image/native/png_write.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

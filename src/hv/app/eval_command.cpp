@@ -1,10 +1,10 @@
 #include "hv/app/eval_command.h"
 
-#include "hv/app/common.h"
+#include "hv/session/session.h"
 #include "hv/eval/evaluate.h"
 #include "hv/eval/seams.h"
 #include "hv/image/image.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -1,10 +1,10 @@
 #include "hv/app/fly_command.h"
 
-#include "hv/app/common.h"
+#include "hv/session/session.h"
 #include "hv/camera/camera_path.h"
 #include "hv/io/camera_path_json.h"
 #include "hv/image/image.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include <CLI/CLI.hpp>
 

@@ -5,7 +5,7 @@
 
 #include "hv/camera/camera_path.h"
 #include "hv/render/testing/gl_test_support.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include <gtest/gtest.h>
 

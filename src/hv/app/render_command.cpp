@@ -1,12 +1,12 @@
 #include "hv/app/render_command.h"
 
-#include "hv/app/common.h"
+#include "hv/session/session.h"
 #include "hv/gpu/gl.h"
 #include "hv/image/colormap.h"
-#include "hv/io/georef.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/georef.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/util/log.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include <CLI/CLI.hpp>
 

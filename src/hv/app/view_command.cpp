@@ -1,6 +1,6 @@
 #include "hv/app/view_command.h"
 
-#include "hv/viewer/viewer.h"
+#include "hv/viewer/desktop/viewer.h"
 
 #include <CLI/CLI.hpp>
 

@@ -1,11 +1,11 @@
 #include "hv/app/web_export_command.h"
 
-#include "hv/app/common.h"
+#include "hv/session/session.h"
 #include "hv/image/image.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/io/web_scene.h"
-#include "hv/points/chunks.h"
+#include "hv/scene/chunks.h"
 
 #include <CLI/CLI.hpp>
 

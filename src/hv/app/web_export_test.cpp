@@ -4,8 +4,8 @@
 #include "hv/app/web_export_command.h"
 #include "hv/demo/demo_city.h"
 #include "hv/image/image.h"
-#include "hv/io/ply_points.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/ply_points.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/io/web_scene.h"
 
 #include <gtest/gtest.h>

@@ -31,11 +31,11 @@
 
 #include "hv/camera/camera.h"
 #include "hv/image/image.h"
-#include "hv/points/point_cloud.h"
+#include "hv/scene/point_cloud.h"
 #include "hv/scene/heightfield.h"
-#include "hv/scene/lod1.h"
+#include "hv/scene/native/lod1.h"
 #include "hv/scene/mesh.h"
-#include "hv/scene/raycast.h"
+#include "hv/scene/native/raycast.h"
 
 namespace hv::demo {
 

@@ -9,10 +9,10 @@
 #include <set>
 
 #include "hv/demo/demo_city.h"
-#include "hv/io/las_reader.h"
-#include "hv/io/ply_points.h"
-#include "hv/io/raster.h"
-#include "hv/scene/lod1.h"
+#include "hv/io/native/las_reader.h"
+#include "hv/io/native/ply_points.h"
+#include "hv/io/native/raster.h"
+#include "hv/scene/native/lod1.h"
 
 namespace hv::demo {
 namespace {

@@ -10,10 +10,10 @@
 
 #include "hv/demo/demo_city.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/las_writer.h"
-#include "hv/io/ply_points.h"
-#include "hv/io/raster.h"
-#include "hv/image/png_write.h"
+#include "hv/io/native/las_writer.h"
+#include "hv/io/native/ply_points.h"
+#include "hv/io/native/raster.h"
+#include "hv/image/native/png_write.h"
 
 namespace hv::demo {
 

@@ -2,7 +2,7 @@
 // Château de Sceaux with their cameras and an OpenMVS mesh): each photograph rendered from the
 // other nine and scored against itself.
 #include "hv/eval/evaluate.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/testing/data_dir.h"
 

@@ -5,7 +5,7 @@
 // model from a wrong one, so the figures are printed (docs/evaluation.md) and only sanity is asserted.
 #include "hv/eval/seams.h"
 #include "hv/image/image.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/testing/data_dir.h"
 #include "hv/util/diagnostics.h"
 

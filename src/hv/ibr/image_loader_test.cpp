@@ -2,7 +2,7 @@
 
 #include "hv/ibr/slot_cache.h"
 #include "hv/util/diagnostics.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,7 +1,7 @@
 #include "hv/io/web_scene.h"
 
 #include "hv/io/cameras_json.h"
-#include "hv/points/chunks.h"
+#include "hv/scene/chunks.h"
 #include "hv/util/log.h"
 
 #include <nlohmann/json.hpp>

@@ -3,7 +3,7 @@
 #include "hv/render/renderer.h"
 
 #include "hv/render/testing/gl_test_support.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include <gtest/gtest.h>
 

@@ -7,12 +7,12 @@
 #include "hv/ibr/reference_blend.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/image/colormap.h"
-#include "hv/image/png_write.h"
-#include "hv/points/chunks.h"
+#include "hv/image/native/png_write.h"
+#include "hv/scene/chunks.h"
 #include "hv/render/renderer.h"
 #include "hv/render/testing/gl_test_support.h"
-#include "hv/scene/lod1.h"
-#include "hv/scene/raycast.h"
+#include "hv/scene/native/lod1.h"
+#include "hv/scene/native/raycast.h"
 
 #include <gtest/gtest.h>
 
@@ -246,8 +246,8 @@ TEST_F(DebugViewGlTest, DepthMapViewMatchesRayCastDepths) {
 
   // The renderer's depth-map frustum (renderer.cpp, depthFrustum): the ideal rectangle with a
   // pixel of margin, depth range from the scene's bounds.
-  ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(photo, 1.0);
-  ibr::setDepthRange(fr, photo, scene.bounds());
+  hv::PinholeFrustum fr = hv::idealRectCoveringImage(photo, 1.0);
+  hv::setDepthRange(fr, photo, scene.bounds());
   const glm::dvec2 rectPx = fr.pxMax - fr.pxMin;
   const double aspect = rectPx.x / rectPx.y;  // 202 / 102: wider than the view, bars above and below
   const glm::dvec2 rect(view.width, view.width / aspect);

@@ -4,7 +4,7 @@
 #include "hv/eval/evaluate.h"
 #include "hv/eval/metrics.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/render/renderer.h"
 #include "hv/render/testing/gl_test_support.h"
 

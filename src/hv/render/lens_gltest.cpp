@@ -44,7 +44,7 @@ Probe runProbe(const Camera& cam, glm::dvec2 origin, glm::dvec2 step) {
   gpu::Program program(gpu::ShaderText{"fullscreen.vert", *vs}, gpu::ShaderText{"lens_probe.frag", kProbe});
 
   std::vector<float> packed(ibr::kTexelsPerImage * 4);
-  ibr::PinholeFrustum fr;
+  hv::PinholeFrustum fr;
   fr.pxMax = {double(cam.width), double(cam.height)};
   ibr::packImageParams(ibr::makeImageParams(cam, glm::dvec3(0.0), {}, 1.0, fr, {}), packed.data());
   gpu::Texture params = gpu::makeTexture();

@@ -6,7 +6,7 @@
 // CPU by hv/eval/seams.h (ParisSeams in src/hv/eval/paris_seams_test.cpp, docs/evaluation.md).
 #include "hv/eval/metrics.h"
 #include "hv/image/image.h"
-#include "hv/io/scene_loader.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/render/renderer.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/testing/data_dir.h"

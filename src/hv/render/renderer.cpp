@@ -6,7 +6,7 @@
 #include "hv/ibr/image_loader.h"
 #include "hv/ibr/slot_cache.h"
 #include "hv/ibr/sprite_homography.h"
-#include "hv/points/chunks.h"
+#include "hv/scene/chunks.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/ibr/tile_culling.h"
 #include "hv/image/colormap.h"
@@ -183,7 +183,7 @@ struct Renderer::Impl {
   ibr::SlotCache cache;
   std::unique_ptr<ibr::ImageLoader> loader;
   ibr::DepthMapScheduler depthScheduler;
-  std::vector<ibr::PinholeFrustum> slotFrustum;
+  std::vector<hv::PinholeFrustum> slotFrustum;
   std::vector<bool> photoBroken;
   std::uint64_t frame = 0;
   gpu::Framebuffer depthFbo, viewFbo;
@@ -459,7 +459,7 @@ struct Renderer::Impl {
 
   // Draws the sprites a camera sees (selectChunks within the budget) with `program` into a target
   // of `size` texels covering `fr`. The caller sets the depth state and the program's own uniforms.
-  std::uint64_t drawPoints(const gpu::Program& program, const Camera& cam, const ibr::PinholeFrustum& fr,
+  std::uint64_t drawPoints(const gpu::Program& program, const Camera& cam, const hv::PinholeFrustum& fr,
                            glm::ivec2 size, bool dropTransient, double depthOffset) {
     const PointSettings& ps = settings.points;
     const glm::dmat3 M = ibr::targetCameraMatrix(cam, fr, size);
@@ -525,7 +525,7 @@ struct Renderer::Impl {
   // rectangle covering the view, so distorted views resample it as they do the mesh's depth):
   // sprites' depths into the view depth (depth test against the mesh), then the winners'
   // colours into pointColor. Leaves viewFbo bound.
-  void renderViewPoints(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz,
+  void renderViewPoints(const Camera& view, const hv::PinholeFrustum& vf, glm::ivec2 depthSz,
                         const ibr::BlendSettings& blend) {
     const PointSettings& ps = settings.points;
     const GLenum none = GL_NONE, color0 = GL_COLOR_ATTACHMENT0;
@@ -755,7 +755,7 @@ struct Renderer::Impl {
   void renderDepthMap(int slot) {
     const Photo& photo = scene.photos[size_t(cache.photoIn(slot))];
     const Camera cam = photoCamera(cache.photoIn(slot));
-    const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
+    const hv::PinholeFrustum& fr = slotFrustum[size_t(slot)];
     glBindFramebuffer(GL_FRAMEBUFFER, depthFbo.id());
     if (naive())
       glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, naiveDepths[size_t(slot)].id(), 0);
@@ -766,7 +766,7 @@ struct Renderer::Impl {
     glReadBuffer(GL_NONE);
     gpu::checkFramebuffer("depth map");
     glViewport(0, 0, depthSize, depthSize);
-    drawDepth(depthProgram, ibr::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo),
+    drawDepth(depthProgram, hv::clipFromRender(cam, fr, scene.origin), fr.near, fr.far, photoDate(photo),
               meshPushBack(), cam.center - scene.origin);
     if (pointsActive() && pointsInDepthMaps) {
       // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
@@ -873,10 +873,10 @@ struct Renderer::Impl {
 
   // The pinhole frustum of a photograph's depth map: the ideal rectangle covering its image (with
   // a pixel of margin), the depth range of everything that may be drawn into it.
-  ibr::PinholeFrustum depthFrustum(int photo) const {
+  hv::PinholeFrustum depthFrustum(int photo) const {
     const Camera cam = photoCamera(photo);
-    ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(cam, 1.0);
-    ibr::setDepthRange(fr, cam, bounds);
+    hv::PinholeFrustum fr = hv::idealRectCoveringImage(cam, 1.0);
+    hv::setDepthRange(fr, cam, bounds);
     return fr;
   }
 
@@ -1001,7 +1001,7 @@ struct Renderer::Impl {
         continue;
       }
       const Camera cam = photoCamera(plan.images[size_t(i)].photo);
-      const ibr::PinholeFrustum& fr = slotFrustum[size_t(slots[i])];
+      const hv::PinholeFrustum& fr = slotFrustum[size_t(slots[i])];
       const double texel = std::max((fr.pxMax.x - fr.pxMin.x) / (depthSize * cam.focal.x),
                                     (fr.pxMax.y - fr.pxMin.y) / (depthSize * cam.focal.y));
       const ibr::DepthBias bias{biasAbs, settings.depthBiasTexels * texel};
@@ -1026,8 +1026,8 @@ struct Renderer::Impl {
 
     // View geometry pass: linear depth over the pinhole rectangle covering the (distorted) view.
     const bool distorted = view.distortion && !view.distortion->isIdentity();
-    ibr::PinholeFrustum vf = ibr::idealRectCoveringImage(view, 0.0);
-    ibr::setDepthRange(vf, view, bounds);
+    hv::PinholeFrustum vf = hv::idealRectCoveringImage(view, 0.0);
+    hv::setDepthRange(vf, view, bounds);
     glm::ivec2 depthSz(view.width, view.height);
     if (distorted) {
       // Same pixel density as the output over the (larger) undistorted rectangle.
@@ -1045,7 +1045,7 @@ struct Renderer::Impl {
     const GLfloat noBuilding[4] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, noBuilding);
     // The view shows today's geometry: every surface, whatever its dates.
-    drawDepth(viewDepthProgram, ibr::clipFromRender(view, vf, scene.origin), vf.near, vf.far, DateInterval{});
+    drawDepth(viewDepthProgram, hv::clipFromRender(view, vf, scene.origin), vf.near, vf.far, DateInterval{});
     pointsThisFrame = pointsActive();
     stats.pointsDrawn = 0;
     if (pointsThisFrame) renderViewPoints(view, vf, depthSz, blend);
@@ -1096,7 +1096,7 @@ struct Renderer::Impl {
   // Per-tile culling (ibr/tile_culling.h): the GPU reduces each tile of the view depth to its depth
   // range, the CPU lists the images whose frustum may cover each tile's slab, the list goes to an
   // R16UI texture that the shading loop walks. Leaves viewFbo bound.
-  void buildTileLists(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz) {
+  void buildTileLists(const Camera& view, const hv::PinholeFrustum& vf, glm::ivec2 depthSz) {
     ibr::TileGrid grid;
     grid.tileSize = std::max(1, settings.tileSize);
     grid.depthSize = depthSz;
@@ -1174,7 +1174,7 @@ struct Renderer::Impl {
     return 0.0;
   }
 
-  void bindShadeInputs(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted,
+  void bindShadeInputs(const Camera& view, const hv::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted,
                        const ibr::BlendSettings& blend) {
     const gpu::Program& p = shadeProgram;
     if (naive()) {
@@ -1305,7 +1305,7 @@ struct Renderer::Impl {
     if (slot >= 0) {
       if (!debugDepthProgram.id()) debugDepthProgram = linkProgram(kProgramDebugDepth);
       // The map covers the frustum's ideal rectangle: shown with that aspect ratio, centred.
-      const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
+      const hv::PinholeFrustum& fr = slotFrustum[size_t(slot)];
       const double aspect = (fr.pxMax.x - fr.pxMin.x) / (fr.pxMax.y - fr.pxMin.y);
       const glm::dvec2 rect = aspect * h > w ? glm::dvec2(w, w / aspect) : glm::dvec2(h * aspect, h);
       const glm::dvec2 rectMin = (glm::dvec2(w, h) - rect) / 2.0;
@@ -1334,7 +1334,7 @@ struct Renderer::Impl {
         hi = std::max<int>(hi, values.data[i]);
       }
     if (lo <= hi) {
-      const ibr::PinholeFrustum& fr = slotFrustum[size_t(slot)];
+      const hv::PinholeFrustum& fr = slotFrustum[size_t(slot)];
       stats.debugDepthNear = fr.near + lo / 65535.0 * (fr.far - fr.near);
       stats.debugDepthFar = fr.near + hi / 65535.0 * (fr.far - fr.near);
     }
@@ -1395,7 +1395,7 @@ struct Renderer::Impl {
   // DebugSettings::frusta over the picture in the colour target (viewFbo bound), depth-tested
   // against the view's depth: visible parts opaque, hidden ones faint. Pinhole views only: the
   // lines go through the view's pinhole transform, which a distorted picture does not follow.
-  void drawFrusta(const Camera& view, const ibr::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted) {
+  void drawFrusta(const Camera& view, const hv::PinholeFrustum& vf, glm::ivec2 depthSz, bool distorted) {
     if (distorted || scene.photos.empty() || depthSz != glm::ivec2(view.width, view.height)) return;
     buildFrustumLines();
     if (!linesProgram.id()) linesProgram = linkProgram(kProgramLines);
@@ -1403,7 +1403,7 @@ struct Renderer::Impl {
     gpu::checkFramebuffer("frusta");
     const gpu::Program& p = linesProgram;
     p.use();
-    uploadMat4(p.uniform("u_clipFromRender"), ibr::clipFromRender(view, vf, scene.origin));
+    uploadMat4(p.uniform("u_clipFromRender"), hv::clipFromRender(view, vf, scene.origin));
     glUniform1f(p.uniform("u_near"), float(vf.near));
     glUniform1f(p.uniform("u_far"), float(vf.far));
     const GLint colorLoc = p.uniform("u_color");

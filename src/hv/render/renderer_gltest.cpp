@@ -6,8 +6,8 @@
 #include "hv/ibr/reference_blend.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/render/testing/gl_test_support.h"
-#include "hv/scene/raycast.h"
-#include "hv/image/png_write.h"
+#include "hv/scene/native/raycast.h"
+#include "hv/image/native/png_write.h"
 
 #include <gtest/gtest.h>
 

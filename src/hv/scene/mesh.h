@@ -4,6 +4,8 @@
 // (up for terrain and roofs, away from the building for walls).
 #pragma once
 
+#include "hv/math/aabb.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -11,16 +13,6 @@
 #include <vector>
 
 namespace hv {
-
-struct Aabb {
-  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-  bool empty() const { return lo.x > hi.x; }
-  void extend(const glm::dvec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-  void extend(const Aabb& b) { if (!b.empty()) { extend(b.lo); extend(b.hi); } }
-  glm::dvec3 center() const { return 0.5 * (lo + hi); }
-  glm::dvec3 size() const { return empty() ? glm::dvec3(0.0) : hi - lo; }
-};
 
 struct Mesh {
   std::vector<glm::dvec3> positions;

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "hv/camera/camera.h"
-#include "hv/points/point_cloud.h"
+#include "hv/scene/point_cloud.h"
 #include "hv/scene/mesh.h"
 #include "hv/util/dates.h"
 
@@ -37,7 +37,7 @@ struct Scene {
   Mesh terrain;
   Mesh buildings;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
-  // scene.json "points" (empty: none), organised into chunks (hv/points/chunks.h) at load, in the
+  // scene.json "points" (empty: none), organised into chunks (hv/scene/chunks.h) at load, in the
   // scene frame; `points.crs` keeps the CRS they were given in (the file's, or points.crs).
   PointCloud points;
   // When each building existed, indexed by the buildings mesh's triangle tags (open-ended by

@@ -1,7 +1,7 @@
 #include "hv/viewer/navigation.h"
 
-#include "hv/scene/lod1.h"
-#include "hv/scene/raycast.h"
+#include "hv/scene/native/lod1.h"
+#include "hv/scene/native/raycast.h"
 
 #include <gtest/gtest.h>
 

@@ -8,8 +8,8 @@
 #include "hv/gpu/gl.h"
 #include "hv/image/image.h"
 #include "hv/io/cameras_json.h"
-#include "hv/io/scene_loader.h"
-#include "hv/scene/lod1.h"
+#include "hv/io/native/scene_loader.h"
+#include "hv/scene/native/lod1.h"
 #include "hv/scene/scene.h"
 
 #include <gtest/gtest.h>

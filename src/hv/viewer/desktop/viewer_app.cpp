@@ -1,16 +1,16 @@
 // The desktop viewer's loop and control panel (hv/viewer/viewer.h). Platform code (window, UI
 // backends) is glfw_window.cpp; navigation maths is hv/viewer/navigation.h; rendering is the
 // shared hv::render::Renderer in progressive frames.
-#include "hv/viewer/viewer.h"
+#include "hv/viewer/desktop/viewer.h"
 
 #include "hv/gpu/gl.h"
 #include "hv/gpu/present.h"
 #include "hv/image/image.h"
 #include "hv/io/camera_path_json.h"
-#include "hv/scene/raycast.h"
-#include "hv/viewer/desktop/glfw_window.h"
+#include "hv/scene/native/raycast.h"
+#include "hv/gpu/platform/glfw/glfw_window.h"
 #include "hv/viewer/navigation.h"
-#include "hv/image/png_write.h"
+#include "hv/image/native/png_write.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>

@@ -1,0 +1,54 @@
+#include "hv/io/native/mesh_reader.h"
+
+#include "hv/util/diagnostics.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <filesystem>
+
+namespace hv {
+
+Mesh readMesh(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": mesh file not found");
+  Assimp::Importer importer;
+  // Triangulate polygons, merge duplicate vertices, drop points and lines; keep the file's frame
+  // (no aiProcess_PreTransformVertices: node transforms are applied below, in double).
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
+    throw InputError(path + ": cannot read mesh (expected PLY, OBJ, glTF or another format Assimp reads): " +
+                     importer.GetErrorString());
+  Mesh out;
+  // Walk the node hierarchy so that node transforms place each mesh.
+  struct Item {
+    const aiNode* node;
+    aiMatrix4x4 transform;
+  };
+  std::vector<Item> stack = {{scene->mRootNode, scene->mRootNode->mTransformation}};
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    for (unsigned m = 0; m < item.node->mNumMeshes; ++m) {
+      const aiMesh* mesh = scene->mMeshes[item.node->mMeshes[m]];
+      if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      const auto base = std::uint32_t(out.positions.size());
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const aiVector3D p = item.transform * mesh->mVertices[v];
+        out.positions.emplace_back(p.x, p.y, p.z);
+      }
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        const aiFace& face = mesh->mFaces[f];
+        if (face.mNumIndices != 3) continue;
+        out.triangles.emplace_back(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+      }
+    }
+    for (unsigned c = 0; c < item.node->mNumChildren; ++c)
+      stack.push_back({item.node->mChildren[c], item.transform * item.node->mChildren[c]->mTransformation});
+  }
+  if (out.triangles.empty()) throw InputError(path + ": mesh: no triangle in the file");
+  return out;
+}
+
+}  // namespace hv

@@ -1,0 +1,43 @@
+// Elevation rasters through GDAL (any single-band raster GDAL reads: GeoTIFF, ASC, VRT, ...).
+// GDAL itself is only included under hv/io/private/.
+#pragma once
+
+#include "hv/io/native/georef.h"
+#include "hv/scene/heightfield.h"
+#include "hv/util/diagnostics.h"
+
+#include <string>
+
+namespace hv {
+
+// Reads band 1 as elevations (metres), honouring no-data (-> NaN) and the geotransform.
+// Rotated geotransforms are rejected. Throws InputError naming the file on failure.
+Heightfield readHeightfield(const std::string& path);
+
+struct GeoreferencedHeightfield {
+  Heightfield field;      // in the scene frame: scene CRS, x, y and heights in metres
+  // The CRS it was read in (terrain.crs, else the raster's): the one transformed from, or, when
+  // the scene has no CRS, the one it declares (taken as it is); empty: none.
+  std::string sourceCrs;
+};
+
+// A terrain raster brought into the scene frame (hv/io/georef.h). Its CRS: `georef.crs`, else the
+// raster's own, else the scene's. Heights: band 1 in the band's declared unit (GDAL's unit type:
+// m, ft, US survey foot), else in the CRS's height unit (CrsDescription::heightToMetre: a 2D CRS
+// in feet has its heights in feet). When both CRSs have a vertical axis, every sample goes through
+// PROJ (datum and geoid included); otherwise heights are only converted to metres, with a warning
+// when the CRSs differ. When the horizontal CRSs differ, the grid is warped with GDAL (bilinear
+// interpolation, exact transformation, no-data honoured, square cells as fine as the source's finer
+// side). A
+// scene without CRS takes the raster as it is. Throws InputError naming the file, or
+// `georef.field` for a bad override, when the raster or a CRS cannot be read, and when the scene
+// or the raster is geocentric (a heightfield needs z up).
+GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGeoref& georef, Diagnostics& diag);
+
+// Writes a single-band Float32 GeoTIFF (the demo city's DTM). `crs` is anything
+// OGRSpatialReference::SetFromUserInput accepts ("EPSG:2154"); empty writes none. `heightUnit`:
+// the band's unit type ("m", "ft"); empty writes none.
+void writeGeoTiff(const std::string& path, const Heightfield& field, const std::string& crs,
+                  const std::string& heightUnit = "");
+
+}  // namespace hv

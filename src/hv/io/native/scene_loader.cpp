@@ -1,0 +1,347 @@
+#include "hv/io/native/scene_loader.h"
+
+#include "hv/io/cameras_json.h"
+#include "hv/io/native/colmap_cameras.h"
+#include "hv/io/native/footprints.h"
+#include "hv/scene/point_normals.h"
+#include "hv/io/native/georef.h"
+#include "hv/io/native/itowns_cameras.h"
+#include "hv/io/native/las_reader.h"
+#include "hv/io/native/mesh_reader.h"
+#include "hv/io/native/micmac_cameras.h"
+#include "hv/io/native/ply_points.h"
+#include "hv/io/native/raster.h"
+#include "hv/scene/chunks.h"
+#include "hv/scene/native/lod1.h"
+#include "hv/util/log.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace hv {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string sourcePath(const json& doc, const char* key, const std::string& dir, const std::string& file) {
+  const json& s = doc.at(key);
+  if (!s.is_object() || !s.contains("path") || !s["path"].is_string())
+    throw InputError(file + ": " + key + ".path: expected a string path");
+  fs::path p = s["path"].get<std::string>();
+  return (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+}
+
+std::optional<std::string> optionalString(const json& obj, const char* key, const std::string& where) {
+  if (!obj.contains(key) || obj[key].is_null()) return std::nullopt;
+  if (!obj[key].is_string()) throw InputError(where + "." + key + ": expected an attribute name (string) or null");
+  return obj[key].get<std::string>();
+}
+
+glm::dvec3 vec3Field(const json& doc, const char* key, const std::string& file) {
+  const json& v = doc.at(key);
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+    throw InputError(file + ": " + key + ": expected [x, y, z]");
+  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+// points.normals: "auto" (the file's, else estimated), "estimate" (always), "facing" (the file's,
+// else camera-facing sprites). Estimated normals: hv/scene/point_normals.h.
+void estimatePointNormals(PointCloud& cloud, const json& entry, const std::string& path) {
+  const json mode = entry.contains("normals") ? entry["normals"] : json("auto");
+  if (!mode.is_string() || (mode != "auto" && mode != "estimate" && mode != "facing"))
+    throw InputError(path + ": points.normals: expected \"auto\", \"estimate\" or \"facing\"");
+  if (mode == "estimate" || (mode == "auto" && !cloud.fields().normals)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    estimateNormals(cloud);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    log::debug("points: normals estimated for " + std::to_string(cloud.size()) + " points in " + std::to_string(s) + " s");
+  }
+}
+
+// scene.json `<key>.crs`: the CRS a source is given in, overriding what its file declares; the
+// scene CRS it goes into (empty: none, the source is taken as it is).
+SourceGeoref sourceGeoref(const json& doc, const char* key, const std::string& sceneCrs, const std::string& file) {
+  SourceGeoref g;
+  g.sceneCrs = sceneCrs;
+  g.field = file + ": " + key + ".crs";
+  const json& s = doc.at(key);
+  if (s.is_object() && s.contains("crs") && !s["crs"].is_null()) {
+    if (!s["crs"].is_string() || s["crs"].get<std::string>().empty())
+      throw InputError(g.field + ": expected a CRS string (e.g. \"EPSG:2154\", WKT, a PROJ string) or null");
+    g.crs = s["crs"].get<std::string>();
+  }
+  return g;
+}
+
+// For `histoview info`: the CRS a source was given in, if any; transformed when the scene has one.
+void recordSource(Scene& scene, const char* name, const std::string& crs) {
+  if (!crs.empty()) scene.sourceCrs.push_back({name, crs, !scene.crs.empty()});
+}
+
+// Without a scene CRS nothing is transformed: sources that declare different CRSs then do not
+// line up, which the user should hear once rather than discover in the render.
+void warnUnrelatedFrames(const Scene& scene, bool crsDeclared, const std::string& path, Diagnostics& diag) {
+  if (crsDeclared || scene.sourceCrs.size() < 2) return;
+  bool differ = false;
+  for (const Scene::SourceCrs& s : scene.sourceCrs) differ = differ || !equivalentCrs(s.crs, scene.sourceCrs[0].crs);
+  if (!differ) return;
+  std::string list;
+  for (const Scene::SourceCrs& s : scene.sourceCrs) {
+    std::string crs = s.crs.size() > 40 ? s.crs.substr(0, 37) + "..." : s.crs;
+    list += (list.empty() ? "" : ", ") + s.source + " " + crs;
+  }
+  diag.warn(inputMessage(path, "crs",
+                         "none declared, so the sources are taken as they are, yet they declare different CRSs (" +
+                             list + "); declare the scene's crs to bring them into one frame"));
+}
+
+// Brings the photographs' cameras from `cameraCrs` into the scene frame; a camera PROJ cannot
+// transform is reported and left out. A geocentric scene frame (MicMac's ECEF without a scene CRS)
+// gets the local vertical at the cameras as its `up` unless scene.json declares one.
+void georeferenceCameras(Scene& scene, const std::string& cameraCrs, bool upDeclared, const std::string& path,
+                         Diagnostics& diag) {
+  std::optional<GeoTransform> made;
+  try {
+    made.emplace(cameraCrs, scene.crs, diag);
+  } catch (const InputError&) {
+    scene.photos.clear();  // cameras in an unknown frame are no cameras at all
+    throw;
+  }
+  const GeoTransform& transform = *made;
+  std::vector<Photo> kept;
+  double worstDefect = 0.0;
+  for (Photo& p : scene.photos) {
+    try {
+      double defect = 0.0;
+      p.camera = transform.camera(p.camera, &defect);
+      worstDefect = std::max(worstDefect, defect);
+      kept.push_back(std::move(p));
+    } catch (const InputError& e) {
+      diag.error(path + ": cameras: camera '" + p.camera.id + "': " + e.what() + " (camera skipped)");
+    }
+  }
+  scene.photos = std::move(kept);
+  log::debug("cameras: " + transform.source().summary() + " -> " + transform.scene().summary() +
+             ", largest non-orthogonality of the local Jacobian " + std::to_string(worstDefect));
+  if (transform.scene().geocentric && !upDeclared && !scene.photos.empty()) {
+    glm::dvec3 mean(0.0);
+    for (const Photo& p : scene.photos) mean += p.camera.center / double(scene.photos.size());
+    scene.up = ecefUp(mean);
+  }
+}
+
+// Brings a point cloud into the scene frame (hv/io/georef.h): from its own CRS (the file's, or
+// points.crs) or, when it declares none, from the scene CRS, whose units still become metres
+// (the Autzen sample is in international feet). Normals turn with the local Jacobian at the
+// cloud's centre.
+void georeferencePoints(PointCloud& cloud, const SourceGeoref& georef, const std::string& file, Diagnostics& diag) {
+  if (cloud.empty()) return;
+  const GeoTransform transform = sourceTransform(georef, sourceCrsOf(georef, cloud.crs), file, diag);
+  if (transform.isIdentity()) return;
+  const glm::dvec3 centre = cloud.bounds().center();
+  glm::dmat3 turn = transform.jacobian(centre);
+  transform.points(cloud.positions);
+  if (!cloud.normals.empty()) {
+    turn = glm::inverse(glm::transpose(turn));  // normals transform by J^-T
+    for (glm::vec3& n : cloud.normals) {
+      const glm::dvec3 m = turn * glm::dvec3(n);
+      const double len = glm::length(m);
+      if (len > 0.0) n = glm::vec3(m / len);
+    }
+  }
+  log::debug("points: " + file + ": " + transform.source().summary() + " -> " + transform.scene().summary());
+}
+
+// A point cloud by its extension: LAS (.las; .laz is refused with advice) or PLY.
+PointCloud readPointFile(const std::string& p) {
+  std::string ext = fs::path(p).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".las" || ext == ".laz") return readLas(p);
+  if (ext == ".ply") return readPlyPoints(p);
+  throw InputError(inputMessage(p, "points.path", "expected a .las or .ply file"));
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, Diagnostics& diag) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(ss.str());
+  } catch (const json::exception& e) {  // parse errors, and numbers out of range (1e400)
+    throw InputError(path + ": not valid JSON: " + e.what());
+  }
+  if (!doc.is_object()) throw InputError(path + ": expected a JSON object");
+
+  Scene scene;
+  scene.path = path;
+  const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+  if (doc.contains("crs") && doc["crs"].is_string()) scene.crs = doc["crs"].get<std::string>();
+  if (doc.contains("up")) {
+    scene.up = vec3Field(doc, "up", path);
+    if (glm::length(scene.up) == 0.0) throw InputError(path + ": up: expected a non-zero vector");
+    scene.up = glm::normalize(scene.up);
+  }
+
+  const bool crsDeclared = !scene.crs.empty();
+
+  // Terrain, buildings, mesh and points: each from its own CRS (`<source>.crs`, else the file's)
+  // into the scene frame (hv/io/georef.h); without a scene CRS, as they are.
+  Heightfield dtm;
+  if (doc.contains("terrain")) {
+    try {
+      const std::string p = sourcePath(doc, "terrain", dir, path);
+      GeoreferencedHeightfield read = readHeightfield(p, sourceGeoref(doc, "terrain", scene.crs, path), diag);
+      dtm = std::move(read.field);
+      scene.terrain = dtm.toMesh();
+      recordSource(scene, "terrain", read.sourceCrs);
+      log::debug("terrain: " + p + ": " + std::to_string(dtm.cols) + "x" + std::to_string(dtm.rows));
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (terrain left out)");
+    }
+  }
+  if (doc.contains("buildings")) {
+    try {
+      const std::string p = sourcePath(doc, "buildings", dir, path);
+      const json& b = doc["buildings"];
+      FootprintFields fields;
+      if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
+      fields.base = optionalString(b, "base", path + ": buildings");
+      fields.top = optionalString(b, "top", path + ": buildings");
+      fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
+      fields.validTo = optionalString(b, "valid_to", path + ": buildings");
+      GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
+      const std::vector<Footprint>& footprints = read.footprints;
+      recordSource(scene, "buildings", read.sourceCrs);
+      scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
+      for (const Footprint& f : footprints) {
+        DateInterval valid;  // open-ended unless the attributes say otherwise
+        auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
+          if (!text || text->empty()) return;
+          if (const auto d = parseDate(*text)) {
+            (from ? valid.first : valid.last) = from ? d->first : d->last;
+          } else {
+            diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
+                      "' (ignored)");
+          }
+        };
+        bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
+        bound(f.validTo, fields.validTo.value_or("valid_to"), false);
+        scene.buildingValidity.push_back(valid);
+      }
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (buildings left out)");
+    }
+  }
+  if (doc.contains("mesh")) {
+    try {
+      const std::string p = sourcePath(doc, "mesh", dir, path);
+      const SourceGeoref georef = sourceGeoref(doc, "mesh", scene.crs, path);
+      Mesh mesh = readMesh(p);
+      // A mesh file seldom declares a CRS: only mesh.crs moves it (like points, vertex by vertex).
+      if (!georef.crs.empty() && !scene.crs.empty()) {
+        const GeoTransform transform = sourceTransform(georef, georef.crs, p, diag);
+        if (!transform.isIdentity()) transform.points(mesh.positions);
+      }
+      recordSource(scene, "mesh", georef.crs);
+      scene.mesh = std::move(mesh);
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (mesh left out)");
+    }
+  }
+  if (doc.contains("points")) {
+    try {
+      const std::string p = sourcePath(doc, "points", dir, path);
+      const auto t0 = std::chrono::steady_clock::now();
+      const SourceGeoref georef = sourceGeoref(doc, "points", scene.crs, path);
+      scene.points = readPointFile(p);
+      if (!georef.crs.empty()) scene.points.crs = georef.crs;  // overrides the file's
+      if (!scene.crs.empty()) georeferencePoints(scene.points, georef, p, diag);
+      recordSource(scene, "points", scene.crs.empty() ? scene.points.crs : sourceCrsOf(georef, scene.points.crs));
+      estimatePointNormals(scene.points, doc["points"], path);
+      organizeChunks(scene.points);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      log::debug("points: " + p + ": " + std::to_string(scene.points.size()) + " points, " +
+                 std::to_string(scene.points.chunks.size()) + " chunks, " + std::to_string(s) + " s");
+    } catch (const InputError& e) {
+      scene.points = PointCloud{};
+      diag.error(std::string(e.what()) + " (points left out)");
+    }
+  }
+  if (doc.contains("cameras")) {
+    try {
+      const json& c = doc["cameras"];
+      if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
+      if (c.contains("format") && !c["format"].is_string())
+        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
+      const std::string format = c.value("format", "native");
+      auto file = [&](const char* key) {
+        if (!c.contains(key) || !c[key].is_string())
+          throw InputError(path + ": cameras." + key + ": expected a path string");
+        const fs::path p = c[key].get<std::string>();
+        return (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+      };
+      if (format == "native") {
+        scene.photos = readCameraFile(sourcePath(doc, "cameras", dir, path), CameraFileOptions{}, diag);
+      } else if (format == "itowns") {
+        // The image pattern is a path pattern, or a JSON file of per-panorama patterns.
+        if (!c.contains("images") || !c["images"].is_string())
+          throw InputError(path + ": cameras.images: expected a pattern with {panoId} and {cameraId}");
+        std::string images = c["images"].get<std::string>();
+        if (fs::path(images).extension() == ".json") images = file("images");
+        scene.photos = readITownsCameras({file("orientations"), file("calibration"), images, dir}, diag);
+      } else if (format == "colmap") {
+        scene.photos = readColmapModel(file("path"), file("images"), diag);
+      } else if (format == "micmac") {
+        scene.photos = readMicmacCameras(file("orientations"), file("images"), diag);
+      } else {
+        throw InputError(path + ": cameras.format: expected \"native\", \"itowns\", \"colmap\" or \"micmac\", got \"" +
+                         format + "\"");
+      }
+      // Georeferencing: the cameras' CRS (cameras.crs, or the format's own: MicMac's centres are
+      // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
+      if (c.contains("crs") && !c["crs"].is_string())
+        throw InputError(path + ": cameras.crs: expected a CRS string (\"EPSG:4978\", WKT, a PROJ string)");
+      const std::string cameraCrs = c.contains("crs") ? c["crs"].get<std::string>()
+                                    : format == "micmac" ? std::string("EPSG:4978")
+                                                         : std::string();
+      if (!cameraCrs.empty()) {
+        scene.sourceCrs.push_back({"cameras", cameraCrs, true});
+        if (scene.crs.empty()) scene.crs = cameraCrs;
+        georeferenceCameras(scene, cameraCrs, doc.contains("up"), path, diag);
+      }
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (cameras left out)");
+    }
+  }
+
+  warnUnrelatedFrames(scene, crsDeclared, path, diag);
+
+  // Keys this version knows; anything else is reported rather than silently ignored.
+  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "points", "cameras"};
+  for (const auto& [key, value] : doc.items()) {
+    if (std::find(std::begin(kKnown), std::end(kKnown), key) == std::end(kKnown))
+      diag.warn(path + ": " + key + ": not read by this version of histoview (ignored)");
+  }
+
+  if (doc.contains("origin")) {
+    scene.origin = vec3Field(doc, "origin", path);
+  } else {
+    // Centre of the data, rounded to whole metres so the render frame is easy to read in logs.
+    const glm::dvec3 c = scene.bounds().empty() ? glm::dvec3(0.0) : scene.bounds().center();
+    scene.origin = glm::round(c);
+  }
+  return scene;
+}
+
+}  // namespace hv

@@ -1,0 +1,237 @@
+#include "hv/scene/native/lod1.h"
+
+#include <geos_c.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <utility>
+
+namespace hv {
+
+namespace {
+
+std::string footprintMessage(const Footprint& fp, const std::string& message) {
+  return inputMessage("footprint " + (fp.id.empty() ? std::string("<no id>") : fp.id), "", message);
+}
+
+// Twice the signed area (shoelace formula): positive for a counter-clockwise ring.
+double twiceSignedArea(const std::vector<glm::dvec2>& ring) {
+  double a = 0.0;
+  for (size_t k = 0, n = ring.size(); k < n; ++k) {
+    const glm::dvec2& p = ring[k];
+    const glm::dvec2& q = ring[(k + 1) % n];
+    a += p.x * q.y - q.x * p.y;
+  }
+  return a;
+}
+
+// A reentrant GEOS context per call: footprints may be extruded from several threads, and the
+// context is where GEOS leaves its last error message.
+class GeosContext {
+ public:
+  GeosContext() : handle_(GEOS_init_r()) {
+    GEOSContext_setErrorMessageHandler_r(handle_, &GeosContext::onError, &lastError_);
+  }
+  ~GeosContext() { GEOS_finish_r(handle_); }
+  GeosContext(const GeosContext&) = delete;
+  GeosContext& operator=(const GeosContext&) = delete;
+
+  GEOSContextHandle_t get() const { return handle_; }
+  const std::string& lastError() const { return lastError_; }
+
+ private:
+  static void onError(const char* message, void* userdata) { *static_cast<std::string*>(userdata) = message; }
+  GEOSContextHandle_t handle_;
+  std::string lastError_;
+};
+
+struct GeomDeleter {
+  GEOSContextHandle_t handle;
+  void operator()(GEOSGeometry* g) const { GEOSGeom_destroy_r(handle, g); }
+};
+using GeomPtr = std::unique_ptr<GEOSGeometry, GeomDeleter>;
+
+// Ring without consecutive repeats and without a closing repeat of the first point.
+std::vector<glm::dvec2> cleanRing(const std::vector<glm::dvec2>& ring) {
+  std::vector<glm::dvec2> out;
+  out.reserve(ring.size());
+  for (const auto& p : ring)
+    if (out.empty() || p != out.back()) out.push_back(p);
+  while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+  return out;
+}
+
+GEOSGeometry* makeLinearRing(const GeosContext& ctx, const std::vector<glm::dvec2>& ring) {
+  GEOSCoordSequence* seq = GEOSCoordSeq_create_r(ctx.get(), unsigned(ring.size() + 1), 2);
+  if (!seq) return nullptr;
+  for (size_t k = 0; k <= ring.size(); ++k) {
+    const glm::dvec2& p = ring[k % ring.size()];  // GEOS rings are explicitly closed
+    GEOSCoordSeq_setXY_r(ctx.get(), seq, unsigned(k), p.x, p.y);
+  }
+  return GEOSGeom_createLinearRing_r(ctx.get(), seq);  // takes ownership of seq, even on failure
+}
+
+GeomPtr makePolygon(const GeosContext& ctx, const std::vector<std::vector<glm::dvec2>>& rings) {
+  GEOSGeometry* shell = makeLinearRing(ctx, rings[0]);
+  std::vector<GEOSGeometry*> holes;
+  bool ok = shell != nullptr;
+  for (size_t r = 1; r < rings.size() && ok; ++r) {
+    GEOSGeometry* hole = makeLinearRing(ctx, rings[r]);
+    if (hole)
+      holes.push_back(hole);
+    else
+      ok = false;
+  }
+  if (!ok) {
+    if (shell) GEOSGeom_destroy_r(ctx.get(), shell);
+    for (GEOSGeometry* h : holes) GEOSGeom_destroy_r(ctx.get(), h);
+    return GeomPtr(nullptr, GeomDeleter{ctx.get()});
+  }
+  // Takes ownership of the shell and the holes.
+  return GeomPtr(GEOSGeom_createPolygon_r(ctx.get(), shell, holes.data(), unsigned(holes.size())),
+                 GeomDeleter{ctx.get()});
+}
+
+}  // namespace
+
+Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ) {
+  if (!std::isfinite(baseZ) || !std::isfinite(topZ) || !(topZ > baseZ))
+    throw InputError(footprintMessage(footprint, "roof elevation " + std::to_string(topZ) +
+                                                     " is not above the base elevation " +
+                                                     std::to_string(baseZ)));
+  if (footprint.rings.empty()) throw InputError(footprintMessage(footprint, "no outer ring"));
+
+  std::vector<std::vector<glm::dvec2>> rings;
+  for (size_t r = 0; r < footprint.rings.size(); ++r) {
+    std::vector<glm::dvec2> ring = cleanRing(footprint.rings[r]);
+    for (const auto& p : ring)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y))
+        throw InputError(
+            footprintMessage(footprint, "ring " + std::to_string(r) + " has a non-finite coordinate"));
+    if (ring.size() < 3)
+      throw InputError(footprintMessage(footprint, "ring " + std::to_string(r) + " has " +
+                                                       std::to_string(ring.size()) +
+                                                       " distinct points, expected at least 3"));
+    rings.push_back(std::move(ring));
+  }
+
+  const GeosContext ctx;
+  const GeomPtr polygon = makePolygon(ctx, rings);
+  if (!polygon) throw InputError(footprintMessage(footprint, "not a polygon: " + ctx.lastError()));
+  const char valid = GEOSisValid_r(ctx.get(), polygon.get());
+  if (valid != 1) {
+    char* reason = GEOSisValidReason_r(ctx.get(), polygon.get());
+    const std::string why = reason ? reason : ctx.lastError();
+    if (reason) GEOSFree_r(ctx.get(), reason);
+    throw InputError(footprintMessage(footprint, "invalid polygon: " + why));
+  }
+
+  // Checked after GEOS so that a bow-tie (whose signed area may cancel) is reported as such.
+  for (size_t r = 0; r < rings.size(); ++r) {
+    auto& ring = rings[r];
+    const double area2 = twiceSignedArea(ring);
+    if (area2 == 0.0)
+      throw InputError(footprintMessage(footprint, "ring " + std::to_string(r) + " has zero area"));
+    // Outer ring counter-clockwise, holes clockwise seen from above: the solid is then always on
+    // the left of each directed edge, so every wall faces right (outwards) by the same rule.
+    const bool wantCcw = r == 0;
+    if ((area2 > 0.0) != wantCcw) std::reverse(ring.begin(), ring.end());
+  }
+
+  // Vertex k of the concatenated rings is 2k at the base and 2k + 1 at the roof.
+  Mesh mesh;
+  std::map<std::pair<double, double>, std::uint32_t> ringVertex;
+  for (const auto& ring : rings)
+    for (const auto& p : ring) {
+      const auto k = std::uint32_t(mesh.positions.size() / 2);
+      ringVertex.emplace(std::make_pair(p.x, p.y), k);
+      mesh.positions.emplace_back(p.x, p.y, baseZ);
+      mesh.positions.emplace_back(p.x, p.y, topZ);
+    }
+
+  // Roof and floor. GEOS's constrained Delaunay triangulation (GEOS >= 3.10, after JTS's
+  // ConstrainedDelaunayTriangulator) only uses the polygon's own vertices, so every triangle
+  // corner maps back to a ring vertex and the roof's border edges are exactly the ring edges.
+  const GeomPtr triangles(GEOSConstrainedDelaunayTriangulation_r(ctx.get(), polygon.get()),
+                          GeomDeleter{ctx.get()});
+  if (!triangles)
+    throw InputError(footprintMessage(footprint, "roof triangulation failed: " + ctx.lastError()));
+  const int count = GEOSGetNumGeometries_r(ctx.get(), triangles.get());
+  for (int t = 0; t < count; ++t) {
+    const GEOSGeometry* tri = GEOSGetGeometryN_r(ctx.get(), triangles.get(), t);
+    const GEOSGeometry* shell = GEOSGetExteriorRing_r(ctx.get(), tri);
+    const GEOSCoordSequence* seq = shell ? GEOSGeom_getCoordSeq_r(ctx.get(), shell) : nullptr;
+    unsigned size = 0;
+    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &size) || size < 3)
+      throw InputError(footprintMessage(footprint, "roof triangulation returned a malformed triangle"));
+    std::uint32_t corner[3];
+    glm::dvec2 xy[3];
+    for (unsigned c = 0; c < 3; ++c) {
+      GEOSCoordSeq_getXY_r(ctx.get(), seq, c, &xy[c].x, &xy[c].y);
+      const auto it = ringVertex.find({xy[c].x, xy[c].y});
+      if (it == ringVertex.end())
+        throw InputError(
+            footprintMessage(footprint, "roof triangulation introduced a vertex not on the footprint"));
+      corner[c] = it->second;
+    }
+    // Roof counter-clockwise from above (up-facing), floor the other way (down-facing).
+    if (twiceSignedArea({xy[0], xy[1], xy[2]}) < 0.0) std::swap(corner[1], corner[2]);
+    mesh.triangles.emplace_back(2 * corner[0] + 1, 2 * corner[1] + 1, 2 * corner[2] + 1);
+    mesh.triangles.emplace_back(2 * corner[0], 2 * corner[2], 2 * corner[1]);
+  }
+
+  // Walls: one quad per ring edge p -> q. The solid lies left of the edge, so the quad
+  // (p base, q base, q roof, p roof) is counter-clockwise seen from the right, i.e. from outside.
+  std::uint32_t first = 0;
+  for (const auto& ring : rings) {
+    const auto n = std::uint32_t(ring.size());
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const std::uint32_t p = first + k, q = first + (k + 1) % n;
+      mesh.triangles.emplace_back(2 * p, 2 * q, 2 * q + 1);
+      mesh.triangles.emplace_back(2 * p, 2 * q + 1, 2 * p + 1);
+    }
+    first += n;
+  }
+  return mesh;
+}
+
+Mesh buildLod1(const std::vector<Footprint>& footprints, const Heightfield* terrain, Diagnostics& diag) {
+  Mesh all;
+  for (size_t index = 0; index < footprints.size(); ++index) {
+    const Footprint& fp = footprints[index];
+    double baseZ = 0.0;
+    if (fp.base) {
+      baseZ = *fp.base;
+    } else if (terrain && !terrain->empty() && !fp.rings.empty()) {
+      if (const auto ground = terrain->minUnder(fp.rings[0]))
+        baseZ = *ground;
+      else
+        diag.warn(footprintMessage(fp, "no terrain elevation under the footprint; base set to 0"));
+    } else {
+      diag.warn(footprintMessage(fp, "no base elevation and no terrain; base set to 0"));
+    }
+
+    double topZ = 0.0;
+    if (fp.top) {
+      topZ = *fp.top;
+    } else if (fp.height) {
+      topZ = baseZ + *fp.height;
+    } else {
+      diag.warn(footprintMessage(fp, "neither a height nor a roof elevation; skipped"));
+      continue;
+    }
+
+    try {
+      Mesh building = extrudeLod1(fp, baseZ, topZ);
+      building.triangleTags.assign(building.triangles.size(), std::uint32_t(index));
+      all.append(building);
+    } catch (const InputError& e) {
+      diag.warn(std::string(e.what()) + "; skipped");
+    }
+  }
+  return all;
+}
+
+}  // namespace hv

@@ -1,0 +1,85 @@
+#include "hv/scene/point_normals.h"
+
+#include <Eigen/Eigenvalues>
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <optional>
+#include <thread>
+
+namespace hv {
+namespace {
+
+// nanoflann dataset adaptor over the positions, relative to their centre (float-free, but small
+// numbers keep the covariance well conditioned).
+struct Positions {
+  std::vector<glm::dvec3> pts;
+  size_t kdtree_get_point_count() const { return pts.size(); }
+  double kdtree_get_pt(size_t i, size_t dim) const { return pts[i][int(dim)]; }
+  template <class B>
+  bool kdtree_get_bbox(B&) const { return false; }
+};
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Positions>, Positions, 3, size_t>;
+
+// A neighbourhood is planar enough when its second spread is not negligible next to its first:
+// neighbours along one scan line (a mobile-mapping scan samples each turn far more densely than
+// it spaces the turns) define a line, and any direction across it would pass as the normal.
+constexpr double kMinPlanarity = 0.05;  // lambda_mid / lambda_max
+
+// The least-variance direction of the neighbours; nullopt when they do not span a plane.
+std::optional<glm::vec3> normalOf(const Positions& p, const size_t* idx, size_t n) {
+  if (n < 3) return std::nullopt;
+  glm::dvec3 mean(0.0);
+  for (size_t k = 0; k < n; ++k) mean += p.pts[idx[k]];
+  mean /= double(n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < n; ++k) {
+    const glm::dvec3 d = p.pts[idx[k]] - mean;
+    const Eigen::Vector3d v(d.x, d.y, d.z);
+    cov += v * v.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  if (eig.info() != Eigen::Success) return std::nullopt;
+  const Eigen::Vector3d values = eig.eigenvalues();  // ascending
+  if (!(values(2) > 0.0) || values(1) < kMinPlanarity * values(2)) return std::nullopt;
+  const Eigen::Vector3d v = eig.eigenvectors().col(0);
+  glm::dvec3 nrm(v.x(), v.y(), v.z());
+  if (nrm.z < 0.0) nrm = -nrm;
+  return glm::vec3(glm::normalize(nrm));
+}
+
+}  // namespace
+
+void estimateNormals(PointCloud& cloud, const NormalEstimation& settings) {
+  const size_t n = cloud.size();
+  cloud.normals.assign(n, glm::vec3(0.0f));
+  if (n == 0) return;
+  Positions p;
+  p.pts = cloud.positions;
+  const glm::dvec3 centre = cloud.bounds().center();
+  for (glm::dvec3& x : p.pts) x -= centre;
+  Tree tree(3, p, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  const size_t k = size_t(std::clamp(settings.neighbours, 3, 256));
+  const size_t wide = size_t(std::clamp(settings.wideNeighbours, int(k), 1024));
+  auto work = [&](size_t begin, size_t end) {
+    std::vector<size_t> idx(wide);
+    std::vector<double> dist(wide);
+    for (size_t i = begin; i < end; ++i) {
+      const double q[3] = {p.pts[i].x, p.pts[i].y, p.pts[i].z};
+      std::optional<glm::vec3> nrm = normalOf(p, idx.data(), tree.knnSearch(q, k, idx.data(), dist.data()));
+      if (!nrm && wide > k) nrm = normalOf(p, idx.data(), tree.knnSearch(q, wide, idx.data(), dist.data()));
+      cloud.normals[i] = nrm.value_or(glm::vec3(0.0f));
+    }
+  };
+  const size_t threads = size_t(std::max(settings.threads, 0));
+  if (threads <= 1 || n < 10000) {
+    work(0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (size_t t = 0; t < threads; ++t) pool.emplace_back(work, n * t / threads, n * (t + 1) / threads);
+  for (std::thread& t : pool) t.join();
+}
+
+}  // namespace hv
