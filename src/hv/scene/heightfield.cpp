@@ -102,6 +102,13 @@ Mesh Heightfield::toMesh(int stride) const {
 
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> vertex(size_t(nc) * nr, kNone);
+  // Reserved up front: growing by doubling would hold the old and the new arrays at once, half as
+  // much again as the mesh itself at its peak (a 6000 x 6000 DTM: 81 bytes a cell instead of 56).
+  size_t withData = 0;
+  for (int b = 0; b < nr; ++b)
+    for (int a = 0; a < nc; ++a) withData += std::isnan(at(is[a], js[b])) ? 0 : 1;
+  mesh.positions.reserve(withData);
+  mesh.triangles.reserve(2 * size_t(nc - 1) * size_t(nr - 1));
   for (int b = 0; b < nr; ++b)
     for (int a = 0; a < nc; ++a) {
       const float v = at(is[a], js[b]);
