@@ -10,7 +10,7 @@ set(HV_PORTABLE_FILES
   gpu/gl.cpp gpu/present.cpp
   image/image_io.cpp image/colormap.cpp
   scene/mesh.cpp scene/scene.cpp
-  io/cameras_json.cpp io/camera_path_json.cpp io/web_scene.cpp
+  io/cameras_json.cpp io/camera_path_json.cpp io/json_input.cpp io/web_scene.cpp
   viewer/navigation.cpp)
 
 # hv_portable_sources(OUT): the portable sources (tests excluded), absolute paths.
