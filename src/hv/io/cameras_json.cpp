@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <system_error>
 
 namespace hv {
 namespace {
@@ -147,6 +148,17 @@ json distortionJson(const LensDistortion& d, const Camera& c) {
           {"r2max", d.r2max}};
 }
 
+// `path` relative to `baseDir` through the file system (links resolved), else lexically: a path
+// in a loop of links or with a name too long would make std::filesystem::relative throw and
+// the whole file unwritable for one photograph.
+std::string relativeTo(const std::string& path, const std::string& baseDir) {
+  std::error_code ec;
+  const fs::path r = fs::relative(path, baseDir, ec);
+  if (!ec && !r.empty()) return r.string();
+  const fs::path lexical = fs::path(path).lexically_relative(baseDir);
+  return lexical.empty() ? path : lexical.string();
+}
+
 // One camera; `notes` gets what is read but worth a warning (unknown keys, a date not read).
 Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOptions& opt,
                std::vector<std::string>& notes) {
@@ -259,9 +271,9 @@ std::string cameraJson(const std::vector<Photo>& photos, const std::string& base
               {"principal", {c.principal.x, c.principal.y}},
               {"skew", c.skew}};
     if (!p.imagePath.empty())
-      j["image"] = baseDir.empty() ? p.imagePath : fs::relative(p.imagePath, baseDir).string();
+      j["image"] = baseDir.empty() ? p.imagePath : relativeTo(p.imagePath, baseDir);
     if (!p.maskPath.empty())
-      j["mask"] = baseDir.empty() ? p.maskPath : fs::relative(p.maskPath, baseDir).string();
+      j["mask"] = baseDir.empty() ? p.maskPath : relativeTo(p.maskPath, baseDir);
     if (c.distortion) j["distortion"] = distortionJson(*c.distortion, c);
     if (!p.date.empty()) j["date"] = p.date;
     arr.push_back(j);

@@ -256,5 +256,20 @@ TEST(CameraJson, AbsurdLensCoefficientsAreWarned) {
       << diag.warnings[0];
 }
 
+TEST(CameraJson, WritingAPathInALoopOfLinksDoesNotThrow) {
+  const auto dir = std::filesystem::temp_directory_path() / ("hv-cameras-loop-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::filesystem::create_symlink(dir / "b", dir / "a");
+  std::filesystem::create_symlink(dir / "a", dir / "b");
+  Diagnostics diag;
+  std::vector<Photo> photos = parse(camera("a"), diag);
+  ASSERT_EQ(photos.size(), 1u);
+  photos[0].imagePath = (dir / "a" / "photo.jpg").string();
+  std::string text;
+  ASSERT_NO_THROW(text = cameraJson(photos, dir.string()));
+  EXPECT_NE(text.find("a/photo.jpg"), std::string::npos) << text;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hv
