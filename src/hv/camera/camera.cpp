@@ -5,6 +5,7 @@
 
 #include <Eigen/SVD>  // header-only; SVD for re-orthonormalisation
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -261,8 +262,37 @@ bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 bool finite(const glm::dvec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
 }  // namespace
 
+namespace {
+
+// A polynomial lens that moves a corner of the photograph by more than its diagonal is no real
+// lens: coefficients typed in the wrong unit (pixels for normalised, or the wrong power of the
+// radius). Positive coefficients never turn back, so LensDistortion::fitDomain accepts them; the
+// camera would project every point off the photograph without a word. Fish-eyes are left alone:
+// their corners legitimately map far from a pinhole's.
+void warnAbsurdLens(const Camera& camera, const std::string& where, Diagnostics& diag) {
+  const LensDistortion& d = *camera.distortion;
+  if (d.model != LensDistortion::Model::Polynomial) return;
+  const double diagonal = std::hypot(double(camera.width), double(camera.height));
+  double worst = 0.0;
+  for (const glm::dvec2 corner : {glm::dvec2(0.0), glm::dvec2(camera.width, 0.0), glm::dvec2(0.0, camera.height),
+                                  glm::dvec2(camera.width, camera.height)}) {
+    const glm::dvec2 moved = d.distort(corner);
+    worst = std::max(worst, finite(moved) ? glm::length(moved - corner) : HUGE_VAL);
+  }
+  if (worst > diagonal) {
+    std::ostringstream s;
+    s << where << ": camera '" << camera.id << "': distortion: moves a corner of the photograph by " << worst
+      << " pixels, more than its diagonal (" << diagonal
+      << "): expected the coefficients of a real lens (check their unit: docs/formats.md)";
+    diag.warn(s.str());
+  }
+}
+
+}  // namespace
+
 void fitLensDomain(Camera& camera, const std::string& where, Diagnostics& diag) {
   if (!camera.distortion) return;
+  warnAbsurdLens(camera, where, diag);
   const std::string change = camera.distortion->fitDomain();
   if (change.empty()) return;
   // Only a domain that cuts into the photograph is worth a warning.

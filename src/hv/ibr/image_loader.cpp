@@ -1,6 +1,8 @@
 #include "hv/ibr/image_loader.h"
 
+#include "hv/image/image_header.h"
 #include "hv/util/diagnostics.h"
+#include "hv/util/input_file.h"
 
 #include <stb_image.h>
 
@@ -19,12 +21,17 @@ namespace {
 using FilePtr = std::unique_ptr<FILE, int (*)(FILE*)>;
 
 FilePtr openFile(const std::string& path) {
+  // A FIFO or device named as a photograph would block the open or never end.
+  if (const std::string reason = notRegularFileReason(path); !reason.empty()) throw InputError(path + ": " + reason);
   FilePtr f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(path + ": cannot open file");  // decodeImage's wording
   return f;
 }
 
-std::string decodeFailure(const std::string& path) {
+// `head`: the first bytes of the file, for the header probe (hv/image/image.h undecodableReason).
+std::string decodeFailure(const std::string& path, const std::vector<std::uint8_t>& head) {
+  if (const std::string why = undecodableReason(head.data(), head.size()); !why.empty())
+    return path + ": cannot decode image: " + why;
   const char* reason = stbi_failure_reason();
   return path + ": cannot decode image (expected JPEG or PNG): " + (reason ? reason : "unknown error");
 }
@@ -199,15 +206,13 @@ ImageLoader::Probe ImageLoader::probe(const Job& job) const {
     info.fileBytes = std::uintmax_t(size);
     // stbi_info parses JPEG marker segments (Huffman tables included) up to the frame header:
     // check what it will read first (the first MiB; the decode checks the whole file).
-    {
-      std::vector<std::uint8_t> head(size_t(std::min<long>(size, 1L << 20)));
-      if (std::fread(head.data(), 1, head.size(), f.get()) != head.size() || std::fseek(f.get(), 0, SEEK_SET) != 0)
-        throw InputError(path + ": cannot read file");
-      checkImageBytes(head.data(), head.size(), path, head.size() == size_t(size));
-    }
+    std::vector<std::uint8_t> head(size_t(std::min<long>(size, 1L << 20)));
+    if (std::fread(head.data(), 1, head.size(), f.get()) != head.size() || std::fseek(f.get(), 0, SEEK_SET) != 0)
+      throw InputError(path + ": cannot read file");
+    checkImageBytes(head.data(), head.size(), path, head.size() == size_t(size));
     // Header only: stbi_info reads the few bytes up to the size fields and restores the position.
     if (!stbi_info_from_file(f.get(), &info.width, &info.height, &info.channels))
-      throw InputError(decodeFailure(path));
+      throw InputError(decodeFailure(path, head));
     info.is16 = stbi_is_16_bit_from_file(f.get()) != 0;
     return info;
   };
@@ -218,6 +223,14 @@ ImageLoader::Probe ImageLoader::probe(const Job& job) const {
     if (!job.maskPath.empty()) {
       field = "mask";
       p.mask = probeFile(job.maskPath);
+      // From the headers, before anything is decoded: a mask of another aspect ratio than the
+      // camera's image cannot be scaled onto it (makeSliceImage), so the photograph is left out.
+      const double aspect = double(job.camera.width) / job.camera.height;
+      if (p.mask->height <= 0 || std::abs(double(p.mask->width) / p.mask->height - aspect) > 0.01 * aspect)
+        throw InputError(job.maskPath + ": the mask is " + std::to_string(p.mask->width) + "x" +
+                         std::to_string(p.mask->height) + " pixels, expected the camera's " +
+                         std::to_string(job.camera.width) + "x" + std::to_string(job.camera.height) +
+                         " or the same aspect ratio (photograph left out)");
     }
   } catch (const std::exception& e) {
     p.error = inputMessage(who, field, e.what());

@@ -5,6 +5,8 @@
 #include "hv/image/native/png_write.h"
 
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -379,6 +381,22 @@ TEST_F(ImageLoaderTest, BrokenImagesYieldErrorsNamingCameraAndField) {
   }
   ImageLoader loader({8, 8}, 0, 1 << 20);
   EXPECT_THROW(loader.jobBytes(cases[0].photo), InputError);
+  // A mask of another aspect ratio is refused from its header, before anything is decoded.
+  try {
+    loader.jobBytes(cases[6].photo);
+    ADD_FAILURE() << "the 8x8 mask of a 16x12 camera was accepted by the probe";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("8x8 pixels, expected the camera's 16x12"), std::string::npos) << e.what();
+  }
+  // A FIFO as a photograph is refused without opening it (an open would wait for a writer).
+  const std::string fifo = (dir_ / "pipe.png").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    loader.jobBytes(photo("fifo", 16, 12, fifo));
+    ADD_FAILURE() << "a FIFO was probed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("FIFO"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(ImageLoaderTest, ImageLargerThanTheCapIsAnErrorNotAHang) {

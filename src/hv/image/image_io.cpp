@@ -1,6 +1,8 @@
 #include "hv/image/image.h"
 
+#include "hv/image/image_header.h"
 #include "hv/util/diagnostics.h"
+#include "hv/util/input_file.h"
 
 #include <stb_image.h>
 #include <stb_image_resize.h>
@@ -61,7 +63,80 @@ void checkJpegSegments(const std::uint8_t* b, size_t n, const std::string& name,
   }
 }
 
+std::uint32_t bigEndian32(const std::uint8_t* b) {
+  return std::uint32_t(b[0]) << 24 | std::uint32_t(b[1]) << 16 | std::uint32_t(b[2]) << 8 | b[3];
+}
+
+// stb_image's STBI_MAX_DIMENSIONS default: it refuses a side over 2^24 pixels.
+constexpr std::uint32_t kDecoderMaxSide = 1u << 24;
+
+std::string sizeWords(std::uint32_t w, std::uint32_t h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+// The PNG header (IHDR, PNG specification 11.2.2), then the JPEG frame header (SOFn, ITU T.81
+// B.2.2): what stb_image decodes is 8-bit (and 16-bit PNG) baseline or progressive Huffman JPEG.
+std::string pngReason(const std::uint8_t* b, size_t n) {
+  if (n < 8 + 8 + 13) return "a PNG cut before its header (IHDR)";
+  const std::uint32_t w = bigEndian32(b + 16), h = bigEndian32(b + 20);
+  if (w == 0 || h == 0) return "a PNG of " + sizeWords(w, h) + " pixels: no image";
+  if (w > kDecoderMaxSide || h > kDecoderMaxSide)
+    return "a PNG of " + sizeWords(w, h) + " pixels, larger than the decoder takes (" +
+           std::to_string(kDecoderMaxSide) + " per side)";
+  const int depth = b[24], colour = b[25];
+  if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16)
+    return "a PNG with " + std::to_string(depth) + "-bit samples (the format has 1, 2, 4, 8 or 16)";
+  if (colour != 0 && colour != 2 && colour != 3 && colour != 4 && colour != 6)
+    return "a PNG of colour type " + std::to_string(colour) + " (the format has 0, 2, 3, 4 and 6)";
+  if (std::uint64_t(w) * h > (std::uint64_t(1) << 31) / 8)
+    return "a PNG of " + sizeWords(w, h) + " pixels, more than the decoder can hold in memory at once";
+  return "";
+}
+
+std::string jpegReason(const std::uint8_t* b, size_t n) {
+  size_t pos = 2;
+  while (pos + 4 <= n) {
+    if (b[pos] != 0xff) return "";
+    const std::uint8_t marker = b[pos + 1];
+    if (marker == 0xff) {
+      ++pos;
+      continue;
+    }
+    if (marker == 0xd9 || marker == 0xda) return "a JPEG without a frame header (SOF) before its scan";
+    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {
+      pos += 2;
+      continue;
+    }
+    const size_t len = size_t(b[pos + 2]) << 8 | b[pos + 3];
+    const bool frame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
+    if (frame) {
+      if (marker >= 0xc9) return "an arithmetic-coded JPEG (SOF" + std::to_string(marker - 0xc0) +
+                                 "): the decoder reads Huffman-coded JPEGs only; re-encode it";
+      if (marker == 0xc3 || marker == 0xc7) return "a lossless JPEG (SOF" + std::to_string(marker - 0xc0) +
+                                                   "): the decoder reads baseline and progressive JPEGs only";
+      if (marker >= 0xc5) return "a hierarchical JPEG (SOF" + std::to_string(marker - 0xc0) +
+                                 "): the decoder reads baseline and progressive JPEGs only";
+      if (pos + 9 > n) return "a JPEG cut in its frame header";
+      const int precision = b[pos + 4];
+      const std::uint32_t h = std::uint32_t(b[pos + 5]) << 8 | b[pos + 6], w = std::uint32_t(b[pos + 7]) << 8 | b[pos + 8];
+      if (precision != 8)
+        return "a " + std::to_string(precision) + "-bit JPEG: the decoder reads 8-bit samples only; re-encode it";
+      if (w == 0 || h == 0)
+        return "a JPEG of " + sizeWords(w, h) + " pixels (a height of 0 is given later by a DNL marker, which "
+               "the decoder does not read)";
+      return "";
+    }
+    if (len < 2) return "";
+    pos += 2 + len;
+  }
+  return "";
+}
+
 }  // namespace
+
+std::string undecodableReason(const std::uint8_t* bytes, size_t size) {
+  if (isPng(bytes, size)) return pngReason(bytes, size);
+  if (isJpeg(bytes, size)) return jpegReason(bytes, size);
+  return "";
+}
 
 void checkImageBytes(const std::uint8_t* bytes, size_t size, const std::string& name, bool complete) {
   // JPEG and PNG only: stb_image also guesses BMP, GIF, PSD, PIC, PNM, HDR and TGA (which has no
@@ -79,6 +154,8 @@ Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& na
   int w = 0, h = 0, n = 0;
   stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &w, &h, &n, wantChannels);
   if (!pixels) {
+    if (const std::string why = undecodableReason(bytes, size); !why.empty())
+      throw InputError(name + ": cannot decode image: " + why);
     const char* reason = stbi_failure_reason();
     throw InputError(name + ": cannot decode image (expected JPEG or PNG): " + (reason ? reason : "unknown error"));
   }
@@ -98,6 +175,8 @@ Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& na
 
 namespace {
 std::vector<std::uint8_t> readFile(const std::string& path) {
+  // A FIFO or device named as a photograph would block the open or never end.
+  if (const std::string reason = notRegularFileReason(path); !reason.empty()) throw InputError(path + ": " + reason);
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(path + ": cannot open file");
   std::vector<std::uint8_t> bytes;

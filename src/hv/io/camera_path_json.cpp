@@ -2,12 +2,12 @@
 #include "hv/io/camera_path_json.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/json_input.h"
+#include "hv/util/input_file.h"
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace hv {
 
@@ -25,7 +25,8 @@ CameraPath parseCameraPath(const std::string& text, const std::string& file, Dia
         (local.errors.size() > 1 ? " (and " + std::to_string(local.errors.size() - 1) + " more)" : "") +
         "; every key camera of a path must be readable");
   // parseCameraJson has already parsed and checked the document: every camera loaded, in order.
-  const nlohmann::json doc = nlohmann::json::parse(text);
+  Diagnostics again;  // the same document: its warnings are already in `diag`
+  const nlohmann::json doc = parseJsonInput(text, file, again);
   const nlohmann::json& cams = doc.at("cameras");
   std::vector<PathKey> keys;
   for (size_t i = 0; i < photos.size(); ++i) {
@@ -58,11 +59,7 @@ std::string cameraPathJson(const std::vector<PathKey>& keys) {
 }
 
 CameraPath readCameraPath(const std::string& path, Diagnostics& diag) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open camera path file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseCameraPath(ss.str(), path, diag);
+  return parseCameraPath(readTextFile(path, kMaxJsonBytes, "camera path"), path, diag);
 }
 
 }  // namespace hv

@@ -1,11 +1,15 @@
 #include "hv/io/cameras_json.h"
 
+#include "hv/io/json_input.h"
+#include "hv/util/dates.h"
+#include "hv/util/input_file.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <map>
+#include <system_error>
 
 namespace hv {
 namespace {
@@ -19,6 +23,7 @@ std::string describe(const json& v) {
   if (v.is_array()) return "an array of " + std::to_string(v.size());
   if (v.is_object()) return "an object";
   if (v.is_null()) return "null";
+  if (isNonFiniteLiteral(v)) return v.get<std::string>() + " (not a finite number)";
   std::string s = v.dump();
   return s.size() > 40 ? s.substr(0, 40) + "..." : s;
 }
@@ -56,18 +61,31 @@ int positiveInt(const json& j, const char* field) {
   return int(d);
 }
 
-std::string resolve(const std::string& baseDir, const std::string& p) {
+// Keys a camera may have (docs/formats.md); `t` is a camera path's time (PATH.json).
+const std::vector<std::string> kCameraKeys = {"id",        "image", "mask",   "width",      "height", "center",
+                                              "rotation",  "focal", "principal", "skew",   "distortion", "date",
+                                              "t"};
+
+std::string resolve(const std::string& baseDir, const std::string& p, const std::string& field) {
+  // The system calls would stop at the NUL and open another file than the one named.
+  if (p.find('\0') != std::string::npos) throw InputError(field + ": the path contains a NUL byte");
   if (p.empty() || fs::path(p).is_absolute()) return p;
   return (fs::path(baseDir) / p).lexically_normal().string();
 }
 
 // "distortion": {"type": "radial" | "opencv" | "fisheye", ...}; docs/formats.md has the fields and
 // hv::LensDistortion (camera.h) the models. Needs the camera's focal and principal point (opencv).
-LensDistortion parseDistortion(const json& d, const Camera& c) {
+LensDistortion parseDistortion(const json& d, const Camera& c, std::vector<std::string>& notes) {
   if (!d.is_object()) throw InputError("distortion: expected an object");
   if (d.contains("type") && !d["type"].is_string())
     throw InputError("distortion.type: expected \"radial\", \"opencv\" or \"fisheye\"");
   const std::string type = d.value("type", "radial");
+  static const std::map<std::string, std::vector<std::string>> kKeys = {
+      {"radial", {"type", "center", "c3", "c5", "c7", "r2max"}},
+      {"opencv", {"type", "k1", "k2", "k3", "p1", "p2", "r2max"}},
+      {"fisheye", {"type", "center", "focal", "c3", "c5", "c7", "l1", "l2", "r2max"}}};
+  if (const auto known = kKeys.find(type); known != kKeys.end())
+    for (const std::string& m : unknownKeys(d, known->second)) notes.push_back("distortion: " + m);
   auto optional = [&](const char* field, double fallback) {
     return d.contains(field) ? number(d, field) : fallback;
   };
@@ -130,13 +148,27 @@ json distortionJson(const LensDistortion& d, const Camera& c) {
           {"r2max", d.r2max}};
 }
 
-Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOptions& opt) {
+// `path` relative to `baseDir` through the file system (links resolved), else lexically: a path
+// in a loop of links or with a name too long would make std::filesystem::relative throw and
+// the whole file unwritable for one photograph.
+std::string relativeTo(const std::string& path, const std::string& baseDir) {
+  std::error_code ec;
+  const fs::path r = fs::relative(path, baseDir, ec);
+  if (!ec && !r.empty()) return r.string();
+  const fs::path lexical = fs::path(path).lexically_relative(baseDir);
+  return lexical.empty() ? path : lexical.string();
+}
+
+// One camera; `notes` gets what is read but worth a warning (unknown keys, a date not read).
+Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOptions& opt,
+               std::vector<std::string>& notes) {
   Photo photo;
   Camera& c = photo.camera;
   if (!j.is_object()) throw InputError("expected an object");
   if (!j.contains("id") || !(j["id"].is_string() || j["id"].is_number_integer()))
     throw InputError("id: missing (expected a string)");
   c.id = j["id"].is_string() ? j["id"].get<std::string>() : std::to_string(j["id"].get<long long>());
+  for (const std::string& m : unknownKeys(j, kCameraKeys)) notes.push_back(m + " (ignored)");
   try {
     c.width = positiveInt(j, "width");
     c.height = positiveInt(j, "height");
@@ -149,19 +181,31 @@ Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOption
     auto pp = numbers(j, "principal", 2);
     c.principal = {pp[0], pp[1]};
     c.skew = j.contains("skew") ? number(j, "skew") : 0.0;
-    if (j.contains("distortion") && !j["distortion"].is_null()) c.distortion = parseDistortion(j["distortion"], c);
+    if (j.contains("distortion") && !j["distortion"].is_null()) c.distortion = parseDistortion(j["distortion"], c, notes);
     validateCamera(c);
-    if (j.contains("image") && j["image"].is_string()) photo.imagePath = resolve(baseDir, j["image"].get<std::string>());
+    if (j.contains("image") && j["image"].is_string())
+      photo.imagePath = resolve(baseDir, j["image"].get<std::string>(), "image");
     else if (j.contains("image") && !j["image"].is_null()) throw InputError("image: expected a path string");
     if (opt.requireImages && photo.imagePath.empty()) throw InputError("image: missing (expected a path to a JPEG or PNG)");
-    if (j.contains("mask") && j["mask"].is_string()) photo.maskPath = resolve(baseDir, j["mask"].get<std::string>());
+    if (j.contains("mask") && j["mask"].is_string())
+      photo.maskPath = resolve(baseDir, j["mask"].get<std::string>(), "mask");
+    else if (j.contains("mask") && !j["mask"].is_null()) throw InputError("mask: expected a path string or null");
     if (opt.checkImageFiles) {
-      if (!photo.imagePath.empty() && !fs::is_regular_file(photo.imagePath))
-        throw InputError("image: file not found: " + photo.imagePath);
-      if (!photo.maskPath.empty() && !fs::is_regular_file(photo.maskPath))
-        throw InputError("mask: file not found: " + photo.maskPath);
+      if (!photo.imagePath.empty() && !isRegularFile(photo.imagePath))
+        throw InputError("image: " + notRegularFileReason(photo.imagePath) + ": " + photo.imagePath);
+      if (!photo.maskPath.empty() && !isRegularFile(photo.maskPath))
+        throw InputError("mask: " + notRegularFileReason(photo.maskPath) + ": " + photo.maskPath);
     }
-    if (j.contains("date") && j["date"].is_string()) photo.date = j["date"].get<std::string>();
+    if (j.contains("date") && !j["date"].is_null()) {
+      // A date that cannot be read is left out (the photograph then has none), not guessed.
+      if (!j["date"].is_string())
+        notes.push_back("date: expected an ISO 8601 date string (\"1905-06-01\"), got " + describe(j["date"]) +
+                        " (ignored)");
+      else if (!parseDate(j["date"].get<std::string>()))
+        notes.push_back("date: expected an ISO 8601 date, got \"" + j["date"].get<std::string>() + "\" (ignored)");
+      else
+        photo.date = j["date"].get<std::string>();
+    }
   } catch (const InputError& e) {
     // validateCamera already names the camera; field readers do not.
     const std::string what = e.what();
@@ -175,20 +219,25 @@ Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOption
 
 std::vector<Photo> parseCameraJson(const std::string& text, const std::string& path, const std::string& baseDir,
                                    const CameraFileOptions& opt, Diagnostics& diag) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {  // parse errors, and numbers out of range (1e400)
-    throw InputError(path + ": not valid JSON: " + e.what());
-  }
+  const json doc = parseJsonInput(text, path, diag);
   if (!doc.is_object() || !doc.contains("cameras") || !doc["cameras"].is_array())
     throw InputError(path + ": cameras: missing (expected an object with a \"cameras\" array)");
+  for (const std::string& m : unknownKeys(doc, {"cameras"})) diag.warn(inputMessage(path, "", m + " (ignored)"));
   std::vector<Photo> out;
+  std::map<std::string, size_t> seen;  // id -> index of the camera kept
   size_t index = 0;
   for (const auto& j : doc["cameras"]) {
     try {
-      out.push_back(parseOne(j, baseDir, opt));
-      fitLensDomain(out.back().camera, path, diag);
+      std::vector<std::string> notes;
+      Photo photo = parseOne(j, baseDir, opt, notes);
+      for (const std::string& m : notes) diag.warn(inputMessage(path, "camera '" + photo.camera.id + "'", m));
+      // Two cameras of one id would be one in every view selection, every output file name and the
+      // page: the first is kept.
+      if (const auto [it, added] = seen.emplace(photo.camera.id, index); !added)
+        throw InputError("camera '" + photo.camera.id + "': duplicate id (camera #" + std::to_string(it->second) +
+                         " has it too and is kept)");
+      fitLensDomain(photo.camera, path, diag);
+      out.push_back(std::move(photo));
     } catch (const InputError& e) {
       std::string msg = e.what();
       if (msg.rfind("camera '", 0) != 0) msg = "camera #" + std::to_string(index) + ": " + msg;
@@ -202,12 +251,9 @@ std::vector<Photo> parseCameraJson(const std::string& text, const std::string& p
 }
 
 std::vector<Photo> readCameraFile(const std::string& path, const CameraFileOptions& opt, Diagnostics& diag) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open camera file");
-  std::stringstream ss;
-  ss << in.rdbuf();
+  const std::string text = readTextFile(path, kMaxJsonBytes, "cameras file");
   const std::string dir = fs::path(path).parent_path().string();
-  return parseCameraJson(ss.str(), path, dir.empty() ? "." : dir, opt, diag);
+  return parseCameraJson(text, path, dir.empty() ? "." : dir, opt, diag);
 }
 
 std::string cameraJson(const std::vector<Photo>& photos, const std::string& baseDir) {
@@ -225,9 +271,9 @@ std::string cameraJson(const std::vector<Photo>& photos, const std::string& base
               {"principal", {c.principal.x, c.principal.y}},
               {"skew", c.skew}};
     if (!p.imagePath.empty())
-      j["image"] = baseDir.empty() ? p.imagePath : fs::relative(p.imagePath, baseDir).string();
+      j["image"] = baseDir.empty() ? p.imagePath : relativeTo(p.imagePath, baseDir);
     if (!p.maskPath.empty())
-      j["mask"] = baseDir.empty() ? p.maskPath : fs::relative(p.maskPath, baseDir).string();
+      j["mask"] = baseDir.empty() ? p.maskPath : relativeTo(p.maskPath, baseDir);
     if (c.distortion) j["distortion"] = distortionJson(*c.distortion, c);
     if (!p.date.empty()) j["date"] = p.date;
     arr.push_back(j);

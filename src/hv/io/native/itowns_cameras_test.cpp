@@ -85,5 +85,41 @@ TEST(ITownsCameras, MalformedFilesNameFileEntryAndField) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(ITownsCameras, DuplicatesAndAbsurdSizesAreNamedAndTheRestLoads) {
+  const auto dir = std::filesystem::temp_directory_path() / ("hv-itowns-dup-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string cam = R"("rotation": [1,0,0, 0,1,0, 0,0,1], "position": [0,0,0],
+     "projection": [100,0,50, 0,100,40, 0,0,1])";
+  std::ofstream(dir / "calib.json") << "[{\"id\": 1, " << cam << R"(, "size": [100, 80]},
+    {"id": 1, )" << cam << R"(, "size": [100, 80]},
+    {"id": 2, )" << cam << R"(, "size": [1e9, 80]},
+    {"id": 3, )" << cam << R"(, "size": [100, NaN]}])";
+  std::ofstream(dir / "poses.geojson") << R"({"type": "FeatureCollection", "features": [
+    {"type": "Feature", "geometry": {"type": "Point", "coordinates": [651000, 6862000, 40]},
+     "properties": {"id": 7, "roll": 0, "pitch": 0, "heading": 90}},
+    {"type": "Feature", "geometry": {"type": "Point", "coordinates": [651001, 6862000, 40]},
+     "properties": {"id": 7, "roll": 0, "pitch": 0, "heading": 0}},
+    {"type": "Feature", "geometry": {"type": "Point", "coordinates": [651002, 6862000, 40]},
+     "properties": {"id": 9, "roll": 0, "pitch": 0, "heading": 0}}]})";
+  Diagnostics diag;
+  // One image name for every panorama: the second panorama's camera would be the first's again.
+  const auto photos = readITownsCameras(
+      {(dir / "poses.geojson").string(), (dir / "calib.json").string(), "img/{cameraId}.jpg"}, diag, false);
+  ASSERT_EQ(photos.size(), 1u);
+  EXPECT_EQ(photos[0].camera.id, "1");
+  std::string all;
+  for (const std::string& e : diag.errors) all += e + "\n";
+  ASSERT_EQ(diag.errors.size(), 5u) << all;
+  EXPECT_NE(diag.errors[0].find("duplicate"), std::string::npos) << all;  // rig camera 1 twice
+  EXPECT_NE(diag.errors[1].find("size"), std::string::npos) << all;       // 1e9
+  EXPECT_NE(diag.errors[1].find("65536"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[2].find("size"), std::string::npos) << all;       // NaN, this camera only
+  EXPECT_NE(diag.errors[3].find("panorama 7"), std::string::npos) << all;  // feature 7 twice
+  EXPECT_NE(diag.errors[3].find("duplicate"), std::string::npos) << all;
+  EXPECT_NE(diag.errors[4].find("panorama 9"), std::string::npos) << all;  // img/1.jpg again
+  EXPECT_NE(diag.errors[4].find("duplicate"), std::string::npos) << all;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hv

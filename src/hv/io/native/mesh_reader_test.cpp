@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 namespace hv {
 namespace {
 
@@ -51,6 +54,46 @@ TEST(MeshReader, BrokenFilesNameTheFile) {
       EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(MeshReader, FaceIndicesOutOfRangeAreRefusedNamingTheFile) {
+  // 3 vertices: index 7 is far past them (a crash in Assimp's post-processing without validation);
+  // index 3 equals the vertex count (a read one past the array).
+  for (const std::string index : {"7", "3"}) {
+    const std::string ply = tempFile("bad-index-" + index + ".ply", R"(ply
+format ascii 1.0
+element vertex 3
+property float x
+property float y
+property float z
+element face 2
+property list uchar int vertex_indices
+end_header
+0 0 0
+1 0 0
+1 1 0
+3 0 1 2
+3 0 1 )" + index + "\n");
+    try {
+      readMesh(ply);
+      FAIL() << "read a face with index " << index;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(ply), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(MeshReader, AFifoIsRefusedWithoutBlocking) {
+  const auto p = std::filesystem::temp_directory_path() / ("hv-mesh-" + std::to_string(::getpid()) + "-fifo.ply");
+  std::filesystem::remove(p);
+  ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0);
+  try {
+    readMesh(p.string());
+    FAIL() << "read a FIFO";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("FIFO"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(p);
 }
 
 }  // namespace

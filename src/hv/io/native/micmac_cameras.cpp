@@ -1,5 +1,7 @@
 #include "hv/io/native/micmac_cameras.h"
 
+#include "hv/util/input_file.h"
+
 #include <pugixml.hpp>
 
 #include <algorithm>
@@ -18,11 +20,7 @@ namespace fs = std::filesystem;
 constexpr double kMicmacToHvPixel = 0.5;
 
 std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return readTextFile(path, kMaxTextBytes, "MicMac XML");
 }
 
 // "ExportAPERO/OrientationConique/Externe/Centre": where an element sits, for error messages.
@@ -303,7 +301,7 @@ MicmacOrientation readMicmacOrientation(const std::string& path) {
       candidates.push_back(oriDir / p.filename());
     }
     for (const fs::path& c : candidates) {
-      if (fs::is_regular_file(c)) {
+      if (isRegularFile(c.string())) {
         resolved = c.lexically_normal().string();
         return readText(resolved);
       }
@@ -318,12 +316,23 @@ MicmacOrientation readMicmacOrientation(const std::string& path) {
 
 std::vector<Photo> readMicmacCameras(const std::string& oriDir, const std::string& imageDir, Diagnostics& diag,
                                      bool checkImageFiles) {
-  if (!fs::is_directory(oriDir)) throw InputError(oriDir + ": not a directory (expected a MicMac Ori- folder)");
+  std::error_code ec;
+  if (!fs::is_directory(oriDir, ec)) throw InputError(oriDir + ": not a directory (expected a MicMac Ori- folder)");
   std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(oriDir)) {
-    const std::string name = e.path().filename().string();
-    if (e.is_regular_file() && hasPrefix(name, "Orientation-") && e.path().extension() == ".xml")
-      files.push_back(e.path().string());
+  // The error_code forms throughout: a link loop or an unreadable entry is one file left out, not
+  // an exception that takes the whole folder down.
+  fs::directory_iterator it(oriDir, ec), end;
+  if (ec) throw InputError(oriDir + ": cannot list the folder: " + ec.message());
+  for (; it != end; it.increment(ec)) {
+    if (ec) {
+      diag.error(oriDir + ": cannot list the folder further: " + ec.message());
+      break;
+    }
+    const std::string name = it->path().filename().string();
+    if (!hasPrefix(name, "Orientation-") || it->path().extension() != ".xml") continue;
+    const std::string reason = notRegularFileReason(it->path().string());
+    if (reason.empty()) files.push_back(it->path().string());
+    else diag.error(it->path().string() + ": " + reason + " (camera skipped)");
   }
   std::sort(files.begin(), files.end());
   if (files.empty()) diag.warn(oriDir + ": no Orientation-*.xml file");
@@ -333,8 +342,8 @@ std::vector<Photo> readMicmacCameras(const std::string& oriDir, const std::strin
       MicmacOrientation o = readMicmacOrientation(f);
       Photo p;
       p.imagePath = (fs::path(imageDir) / o.imageName).lexically_normal().string();
-      if (checkImageFiles && !fs::is_regular_file(p.imagePath))
-        throw InputError(f + ": image " + o.imageName + ": file not found: " + p.imagePath);
+      if (checkImageFiles && !isRegularFile(p.imagePath))
+        throw InputError(f + ": image " + o.imageName + ": " + notRegularFileReason(p.imagePath) + ": " + p.imagePath);
       p.camera = std::move(o.camera);
       fitLensDomain(p.camera, f, diag);
       out.push_back(std::move(p));

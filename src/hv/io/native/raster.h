@@ -6,12 +6,20 @@
 #include "hv/scene/heightfield.h"
 #include "hv/util/diagnostics.h"
 
+#include <cstdint>
 #include <string>
 
 namespace hv {
 
+// The most cells a terrain raster is read at (docs/formats.md, Limits): 6144 x 6144, 144 MiB of
+// samples and about 2 GiB once meshed (Heightfield::toMesh, 56 bytes a cell). A larger raster is
+// read at the smallest integer decimation that fits (from an overview when the file has one),
+// with a warning naming the file, its size and the step.
+constexpr std::uint64_t kMaxRasterCells = std::uint64_t(6144) * 6144;
+
 // Reads band 1 as elevations (metres), honouring no-data (-> NaN) and the geotransform.
-// Rotated geotransforms are rejected. Throws InputError naming the file on failure.
+// Rotated geotransforms are rejected, and so are rasters smaller than 2 x 2 or with no sample
+// that has data. Throws InputError naming the file on failure.
 Heightfield readHeightfield(const std::string& path);
 
 struct GeoreferencedHeightfield {

@@ -6,6 +6,7 @@
 #include "hv/scene/point_normals.h"
 #include "hv/io/native/georef.h"
 #include "hv/io/native/itowns_cameras.h"
+#include "hv/io/json_input.h"
 #include "hv/io/native/las_reader.h"
 #include "hv/io/native/mesh_reader.h"
 #include "hv/io/native/micmac_cameras.h"
@@ -14,6 +15,7 @@
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
 #include "hv/util/log.h"
+#include "hv/util/input_file.h"
 
 #include <nlohmann/json.hpp>
 
@@ -168,25 +170,45 @@ PointCloud readPointFile(const std::string& p) {
   throw InputError(inputMessage(p, "points.path", "expected a .las or .ply file"));
 }
 
+// The keys of scene.json (docs/formats.md). A key this version does not read is most often a
+// misspelt one ("terain"): the scene would load without what it names, so it is refused instead,
+// with the nearest known key.
+void refuseUnknownKeys(const json& doc, const std::string& path) {
+  static const std::vector<std::string> kTop = {"crs",       "origin", "up",     "terrain",
+                                                "buildings", "mesh",   "points", "cameras"};
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
+      {"terrain", {"path", "crs"}},
+      {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
+      {"mesh", {"path", "crs"}},
+      {"points", {"path", "crs", "normals"}},
+      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration"}}};
+  std::vector<std::string> bad;
+  for (const std::string& m : unknownKeys(doc, kTop)) bad.push_back(m);
+  for (const auto& [source, keys] : kSources)
+    if (doc.contains(source))
+      for (const std::string& m : unknownKeys(doc[source], keys)) bad.push_back(source + ": " + m);
+  if (bad.empty()) return;
+  std::string list;
+  for (const std::string& b : bad) list += (list.empty() ? "" : "; ") + b;
+  throw InputError(path + ": " + list + " (this version reads only the keys of docs/formats.md; the scene is not loaded)");
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path, Diagnostics& diag) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  json doc;
-  try {
-    doc = json::parse(ss.str());
-  } catch (const json::exception& e) {  // parse errors, and numbers out of range (1e400)
-    throw InputError(path + ": not valid JSON: " + e.what());
-  }
+  const json doc = readJsonInput(path, "scene", diag);
   if (!doc.is_object()) throw InputError(path + ": expected a JSON object");
+  refuseUnknownKeys(doc, path);
 
   Scene scene;
   scene.path = path;
   const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
-  if (doc.contains("crs") && doc["crs"].is_string()) scene.crs = doc["crs"].get<std::string>();
+  if (doc.contains("crs") && !doc["crs"].is_null()) {
+    if (!doc["crs"].is_string() || doc["crs"].get<std::string>().empty())
+      throw InputError(path + ": crs: expected a CRS string (e.g. \"EPSG:2154\", WKT, a PROJ string), got " +
+                       doc["crs"].dump().substr(0, 40));
+    scene.crs = doc["crs"].get<std::string>();
+  }
   if (doc.contains("up")) {
     scene.up = vec3Field(doc, "up", path);
     if (glm::length(scene.up) == 0.0) throw InputError(path + ": up: expected a non-zero vector");
@@ -326,13 +348,6 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   }
 
   warnUnrelatedFrames(scene, crsDeclared, path, diag);
-
-  // Keys this version knows; anything else is reported rather than silently ignored.
-  static const char* kKnown[] = {"crs", "origin", "up", "terrain", "buildings", "mesh", "points", "cameras"};
-  for (const auto& [key, value] : doc.items()) {
-    if (std::find(std::begin(kKnown), std::end(kKnown), key) == std::end(kKnown))
-      diag.warn(path + ": " + key + ": not read by this version of histoview (ignored)");
-  }
 
   if (doc.contains("origin")) {
     scene.origin = vec3Field(doc, "origin", path);

@@ -1,6 +1,7 @@
 #include "hv/io/native/mesh_reader.h"
 
 #include "hv/util/diagnostics.h"
+#include "hv/util/input_file.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -11,12 +12,14 @@
 namespace hv {
 
 Mesh readMesh(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": mesh file not found");
+  requireRegularFile(path, "mesh");
   Assimp::Importer importer;
-  // Triangulate polygons, merge duplicate vertices, drop points and lines; keep the file's frame
-  // (no aiProcess_PreTransformVertices: node transforms are applied below, in double).
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  // Validate first (a face index past the vertices would otherwise be followed by the steps after
+  // it: a crash in JoinIdenticalVertices, or a read past the array), then triangulate polygons,
+  // merge duplicate vertices, drop points and lines; keep the file's frame (no
+  // aiProcess_PreTransformVertices: node transforms are applied below, in double).
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                                                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
   if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw InputError(path + ": cannot read mesh (expected PLY, OBJ, glTF or another format Assimp reads): " +
                      importer.GetErrorString());
@@ -31,6 +34,10 @@ Mesh readMesh(const std::string& path) {
     const Item item = stack.back();
     stack.pop_back();
     for (unsigned m = 0; m < item.node->mNumMeshes; ++m) {
+      // Checked again here, whatever Assimp's validation lets through: every index this walk follows.
+      if (item.node->mMeshes[m] >= scene->mNumMeshes || !scene->mMeshes[item.node->mMeshes[m]])
+        throw InputError(path + ": mesh: node '" + std::string(item.node->mName.C_Str()) + "' names mesh " +
+                         std::to_string(item.node->mMeshes[m]) + " of " + std::to_string(scene->mNumMeshes));
       const aiMesh* mesh = scene->mMeshes[item.node->mMeshes[m]];
       if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
       const auto base = std::uint32_t(out.positions.size());
@@ -41,6 +48,11 @@ Mesh readMesh(const std::string& path) {
       for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
         const aiFace& face = mesh->mFaces[f];
         if (face.mNumIndices != 3) continue;
+        for (unsigned k = 0; k < 3; ++k)
+          if (face.mIndices[k] >= mesh->mNumVertices)
+            throw InputError(path + ": mesh: face " + std::to_string(f) + ": vertex index " +
+                             std::to_string(face.mIndices[k]) + " out of range (expected below " +
+                             std::to_string(mesh->mNumVertices) + ")");
         out.triangles.emplace_back(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
       }
     }

@@ -3,13 +3,27 @@
 #include <gdal.h>
 #include <ogr_spatialref.h>
 
+#include "hv/util/diagnostics.h"
+#include "hv/util/input_file.h"
+
+#include <filesystem>
 #include <mutex>
+#include <system_error>
 
 namespace hv::gdal {
 
 void ensureRegistered() {
   static std::once_flag once;
   std::call_once(once, [] { GDALAllRegister(); });
+}
+
+void requireOpenable(const std::string& path, const std::string& what, bool allowDirectory) {
+  if (path.rfind("/vsi", 0) == 0 && path.find('\0') == std::string::npos) return;
+  if (allowDirectory) {
+    std::error_code ec;
+    if (path.find('\0') == std::string::npos && std::filesystem::is_directory(path, ec)) return;
+  }
+  requireRegularFile(path, what);
 }
 
 std::string lastError(const std::string& fallback) {

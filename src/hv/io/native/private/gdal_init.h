@@ -26,6 +26,12 @@ class QuietErrors {
   QuietErrors& operator=(const QuietErrors&) = delete;
 };
 
+// Throws InputError naming `path` and `what` unless GDAL may open it without blocking: a regular
+// file, or (`allowDirectory`: OGR reads a folder of shapefiles) a directory. A FIFO would block
+// GDAL's open forever and a device would be read without end. GDAL's virtual paths ("/vsizip/",
+// "/vsicurl/") are left to GDAL.
+void requireOpenable(const std::string& path, const std::string& what, bool allowDirectory);
+
 // GDAL's last error message on this thread, or `fallback` when it left none.
 std::string lastError(const std::string& fallback);
 

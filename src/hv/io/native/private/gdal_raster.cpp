@@ -24,6 +24,7 @@ struct DatasetCloser {
 using DatasetPtr = std::unique_ptr<GDALDataset, DatasetCloser>;
 
 DatasetPtr openRaster(const std::string& path) {
+  gdal::requireOpenable(path, "raster", false);
   DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   if (!ds)
     throw InputError(inputMessage(path, "", "cannot open as a raster: " + gdal::lastError("unknown format")));
@@ -31,8 +32,22 @@ DatasetPtr openRaster(const std::string& path) {
   return ds;
 }
 
+// The decimation a raster of cols x rows is read at: 1 when it fits kMaxRasterCells, else the
+// smallest integer step whose grid fits. 0 when no step would make a usable grid.
+int decimationFor(std::uint64_t cols, std::uint64_t rows) {
+  for (std::uint64_t step = 1; step <= 4096; ++step) {
+    const std::uint64_t c = (cols + step - 1) / step, r = (rows + step - 1) / step;
+    if (c < 2 || r < 2) return 0;
+    if (c * r <= kMaxRasterCells) return int(step);
+  }
+  return 0;
+}
+
 // Band 1 of `ds` on its own grid, in its own units (no-data -> NaN, scale and offset applied).
-Heightfield readGrid(GDALDataset* ds, const std::string& path) {
+// A raster over kMaxRasterCells is read at a coarser grid, with a warning in `diag` (when given):
+// the size is checked before anything is allocated (a sparse GeoTIFF of 40000 x 40000 cells is
+// 296 KB on disk and 6.4 GB as floats).
+Heightfield readGrid(GDALDataset* ds, const std::string& path, Diagnostics* diag) {
   // Geotransform (GDAL data model): x = gt[0] + col * gt[1] + row * gt[2],
   //                                   y = gt[3] + col * gt[4] + row * gt[5].
   double gt[6];
@@ -42,19 +57,36 @@ Heightfield readGrid(GDALDataset* ds, const std::string& path) {
     throw InputError(inputMessage(path, "geotransform", "rotated or sheared rasters are not supported"));
   if (gt[1] == 0.0 || gt[5] == 0.0) throw InputError(inputMessage(path, "geotransform", "zero pixel size"));
 
+  const int sourceCols = ds->GetRasterXSize(), sourceRows = ds->GetRasterYSize();
+  const std::string size = std::to_string(sourceCols) + " x " + std::to_string(sourceRows);
+  if (sourceCols < 2 || sourceRows < 2)
+    throw InputError(inputMessage(path, "size", size + " cells: expected at least 2 x 2 to make a terrain"));
+  const int step = decimationFor(std::uint64_t(sourceCols), std::uint64_t(sourceRows));
+  if (step == 0)
+    throw InputError(inputMessage(path, "size", size + " cells: too large to read even decimated (the limit is " +
+                                                    std::to_string(kMaxRasterCells) +
+                                                    " cells, docs/formats.md, Limits)"));
   Heightfield field;
-  field.cols = ds->GetRasterXSize();
-  field.rows = ds->GetRasterYSize();
+  field.cols = (sourceCols + step - 1) / step;
+  field.rows = (sourceRows + step - 1) / step;
   field.originX = gt[0];
   field.originY = gt[3];
-  field.cellX = gt[1];
-  field.cellY = gt[5];
+  // The decimated grid covers the same extent: its cells are the source's times the exact ratio.
+  field.cellX = gt[1] * double(sourceCols) / field.cols;
+  field.cellY = gt[5] * double(sourceRows) / field.rows;
   field.crs = gdal::crsDefinition(ds->GetSpatialRef());
+  if (step > 1 && diag)
+    diag->warn(inputMessage(path, "size",
+                            size + " cells, over the limit of " + std::to_string(kMaxRasterCells) +
+                                " (docs/formats.md, Limits): read at 1/" + std::to_string(step) + " resolution, " +
+                                std::to_string(field.cols) + " x " + std::to_string(field.rows) + " cells"));
 
   GDALRasterBand* band = ds->GetRasterBand(1);
   field.z.resize(size_t(field.cols) * field.rows);
-  if (band->RasterIO(GF_Read, 0, 0, field.cols, field.rows, field.z.data(), field.cols, field.rows,
-                     GDT_Float32, 0, 0, nullptr) != CE_None)
+  // A smaller buffer than the window: GDAL decimates (nearest sample), from an overview when the
+  // file has one.
+  if (band->RasterIO(GF_Read, 0, 0, sourceCols, sourceRows, field.z.data(), field.cols, field.rows, GDT_Float32, 0,
+                     0, nullptr) != CE_None)
     throw InputError(inputMessage(path, "band 1", "read failed: " + gdal::lastError("I/O error")));
 
   int hasNoData = 0;
@@ -72,6 +104,8 @@ Heightfield readGrid(GDALDataset* ds, const std::string& path) {
       v = float(double(v) * (hasScale ? scale : 1.0) + (hasOffset ? offset : 0.0));
     }
   }
+  if (std::all_of(field.z.begin(), field.z.end(), [](float v) { return std::isnan(v); }))
+    throw InputError(inputMessage(path, "band 1", "every sample is no-data: no terrain to make"));
   return field;
 }
 
@@ -196,7 +230,7 @@ double warpedCellSize(const Heightfield& f, const GeoTransform& t) {
 // off-centre (a bias of up to a tenth of a cell times the slope); XSCALE = YSCALE = 1 keep the
 // four-sample kernel.
 Heightfield warpGrid(const Heightfield& f, const OGRSpatialReference& from, const OGRSpatialReference& to, double cell,
-                     const std::string& path) {
+                     const std::string& path, Diagnostics& diag) {
   const DatasetPtr source = memoryDataset(f, from, path);
   char* wkt = nullptr;
   const char* const wktOptions[] = {"FORMAT=WKT2_2019", nullptr};
@@ -220,7 +254,7 @@ Heightfield warpGrid(const Heightfield& f, const OGRSpatialReference& from, cons
   GDALWarpAppOptionsFree(options);
   if (!warped)
     throw InputError(inputMessage(path, "", "cannot warp into the scene CRS: " + gdal::lastError("GDALWarp failed")));
-  return readGrid(warped.get(), path);
+  return readGrid(warped.get(), path, &diag);
 }
 
 }  // namespace
@@ -229,7 +263,7 @@ Heightfield readHeightfield(const std::string& path) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
   const DatasetPtr ds = openRaster(path);
-  return readGrid(ds.get(), path);
+  return readGrid(ds.get(), path, nullptr);
 }
 
 GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGeoref& georef, Diagnostics& diag) {
@@ -237,7 +271,7 @@ GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGe
   const gdal::QuietErrors quiet;
   const DatasetPtr ds = openRaster(path);
   GeoreferencedHeightfield out;
-  Heightfield f = readGrid(ds.get(), path);
+  Heightfield f = readGrid(ds.get(), path, &diag);
   const double bandToMetre = bandUnitToMetre(ds.get(), path, diag);
   out.sourceCrs = sourceCrsOf(georef, f.crs);
   if (out.sourceCrs.empty()) {  // no scene CRS: a local frame, the raster as it is
@@ -256,7 +290,7 @@ GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGe
     if (!t.sameHorizontalCrs()) {
       const int cols = f.cols, rows = f.rows;
       f = warpGrid(f, horizontalSrs(out.sourceCrs, path), horizontalSrs(georef.sceneCrs, path), warpedCellSize(f, t),
-                   path);
+                   path, diag);
       log::debug("terrain: " + path + ": warped " + std::to_string(cols) + "x" + std::to_string(rows) + " -> " +
                  std::to_string(f.cols) + "x" + std::to_string(f.rows) + " cells of " + std::to_string(f.cellX) +
                  " scene units");

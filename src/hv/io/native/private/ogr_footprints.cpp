@@ -165,6 +165,7 @@ GeoreferencedFootprints readFootprints(const std::string& path, const FootprintF
                                        const SourceGeoref& georef, Diagnostics& diag) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
+  gdal::requireOpenable(path, "footprints", true);
   DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   if (!ds)
     throw InputError(
