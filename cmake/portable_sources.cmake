@@ -7,7 +7,7 @@
 # whole portable library without them (docs/web.md).
 set(HV_PORTABLE_DIRS camera ibr points render util)
 set(HV_PORTABLE_FILES
-  gpu/gl.cpp gpu/present.cpp
+  gpu/gl.cpp gpu/present.cpp gpu/shader_assembly.cpp
   image/image_io.cpp image/colormap.cpp
   scene/mesh.cpp scene/scene.cpp
   io/cameras_json.cpp io/camera_path_json.cpp io/web_scene.cpp

@@ -10,8 +10,15 @@ precision highp sampler2D;
 precision highp sampler2DArray;
 
 #include "ibr_common.glsl"
-#include "image_binding.glsl"
 #include "colormap.glsl"
+
+// The photographs and their depth maps: one texture2DArray of each, or with HV_NAIVE the baseline
+// the papers improve on (Brédif 2013; de Castro & Brédif 2022 §2.1), one sampler2D per photograph
+// and per depth map, HV_NAIVE_COUNT pairs declared further down by the generated naive binding.
+#ifndef HV_NAIVE
+uniform highp sampler2DArray u_images;     // premultiplied RGBA8, alpha = mask
+uniform highp sampler2DArray u_depthMaps;  // linear depth in [0, 1] between near and far
+#endif
 
 uniform highp sampler2D u_viewDepth;       // the view's geometry pass, same encoding
 uniform highp sampler2D u_idealLookup;     // distorted views: ideal pixel of each output pixel
@@ -115,6 +122,9 @@ void hv_accumulate(int i, HvImage im, vec4 texel, inout HvBlend b) {
 }
 
 #ifdef HV_NAIVE
+// One image of the naive binding, on its own sampler pair; called once per pair by hv_naiveBlend,
+// which the generated include declares with the pairs (hv::gpu::naiveBindingGlsl,
+// src/hv/gpu/shader_assembly.cpp).
 void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, vec3 normal, vec2 existed,
                   inout HvBlend b) {
   if (b.done || i >= u_imageCount) return;
@@ -125,6 +135,7 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
   if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P)) return;
   hv_accumulate(i, im, textureLod(image, uv, 0.0), b);
 }
+#include "generated:naive_binding"
 #endif
 
 void main() {
@@ -174,54 +185,7 @@ void main() {
 #ifdef HV_NAIVE
   // The naive binding: one step per selected image, each with its own samplers.
   int n = u_imageCount;
-#if HV_NAIVE_COUNT > 0
-  hv_naiveStep(0, u_image0, u_depth0, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 1
-  hv_naiveStep(1, u_image1, u_depth1, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 2
-  hv_naiveStep(2, u_image2, u_depth2, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 3
-  hv_naiveStep(3, u_image3, u_depth3, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 4
-  hv_naiveStep(4, u_image4, u_depth4, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 5
-  hv_naiveStep(5, u_image5, u_depth5, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 6
-  hv_naiveStep(6, u_image6, u_depth6, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 7
-  hv_naiveStep(7, u_image7, u_depth7, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 8
-  hv_naiveStep(8, u_image8, u_depth8, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 9
-  hv_naiveStep(9, u_image9, u_depth9, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 10
-  hv_naiveStep(10, u_image10, u_depth10, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 11
-  hv_naiveStep(11, u_image11, u_depth11, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 12
-  hv_naiveStep(12, u_image12, u_depth12, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 13
-  hv_naiveStep(13, u_image13, u_depth13, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 14
-  hv_naiveStep(14, u_image14, u_depth14, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 15
-  hv_naiveStep(15, u_image15, u_depth15, P, normal, existed, blend);
-#endif
+  hv_naiveBlend(P, normal, existed, blend);
 #else
   // The images to visit: this tile's list (hv::ibr::buildTileLists), or every selected image.
   int row = 0;
