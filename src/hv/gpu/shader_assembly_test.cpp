@@ -1,5 +1,5 @@
 // Shader assembly without a GL context (hv/gpu/shader_assembly.h): the generated naive binding,
-// include and define resolution.
+// include and define resolution, and the per-image test chain shared by the mesh and point passes.
 #include "hv/gpu/shader_assembly.h"
 
 #include "hv/gpu/shader_sources.h"
@@ -88,6 +88,23 @@ TEST(ShaderAssembly, MalformedNaiveCountIsNamed) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("generated:nothing"), std::string::npos) << e.what();
   }
+}
+
+// The mesh and the point passes run one per-image test chain: its functions are defined once, in
+// shaders/image_test.glsl, and both passes' colour programs are assembled with it.
+TEST(ShaderAssembly, MeshAndPointPassesShareThePerImageTestChain) {
+  const std::string chain = *findShaderSource("image_test.glsl");
+  for (const char* f : {"bool hv_inImage(", "bool hv_project(", "bool hv_existedAt(", "float hv_shadowBias(",
+                        "bool hv_shadowed(", "void hv_accumulate(", "vec2 hv_surfaceExisted("}) {
+    EXPECT_EQ(occurrences(chain, f), 1) << f;
+    for (const std::string& name : shaderNames())
+      if (name != "image_test.glsl") EXPECT_EQ(occurrences(*findShaderSource(name), f), 0) << f << " in " << name;
+    EXPECT_EQ(occurrences(preprocessShader("ibr_shade.frag", {}), f), 1) << f;
+    EXPECT_EQ(occurrences(preprocessShader("points.frag", {}), f), 1) << f;
+  }
+  // Both passes call the date test (a photograph does not texture what did not exist at its date).
+  for (const char* pass : {"ibr_shade.frag", "points.frag"})
+    EXPECT_GE(occurrences(*findShaderSource(pass), "hv_existedAt(im, existed)"), 1) << pass;
 }
 
 }  // namespace
