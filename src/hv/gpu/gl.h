@@ -14,7 +14,7 @@
 
 namespace hv::gpu {
 
-// What the context can do; queried once at start and used to size everything (DESIGN.md §4).
+// What the context can do; queried once at start and used to size everything.
 struct GlLimits {
   int maxTextureSize = 0;
   int maxArrayTextureLayers = 0;
