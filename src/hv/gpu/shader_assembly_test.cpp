@@ -40,7 +40,8 @@ TEST(ShaderAssembly, NaiveBindingForThirteenImagesInOrder) {
     const std::string si = std::to_string(i);
     EXPECT_EQ(occurrences(g, "uniform highp sampler2D u_image" + si + ";\n"), 1) << i;
     EXPECT_EQ(occurrences(g, "uniform highp sampler2D u_depth" + si + ";\n"), 1) << i;
-    const size_t at = g.find("  hv_naiveStep(" + si + ", u_image" + si + ", u_depth" + si + ", P, normal, existed, b);\n");
+    const size_t at =
+        g.find("  hv_naiveStep(" + si + ", u_image" + si + ", u_depth" + si + ", P, normal, existed, b);\n");
     ASSERT_NE(at, std::string::npos) << i;
     EXPECT_GT(at, last) << i;
     last = at;
@@ -50,8 +51,8 @@ TEST(ShaderAssembly, NaiveBindingForThirteenImagesInOrder) {
 }
 
 TEST(ShaderAssembly, DefinesFollowTheVersionLineAndIncludesAreResolved) {
-  const std::string s = preprocessShader(ShaderText{"probe.frag", "#version 300 es\n#include \"colormap.glsl\"\nvoid main() {}\n"},
-                                         {"HV_A", "HV_B=3"});
+  const ShaderText probe{"probe.frag", "#version 300 es\n#include \"colormap.glsl\"\nvoid main() {}\n"};
+  const std::string s = preprocessShader(probe, {"HV_A", "HV_B=3"});
   EXPECT_EQ(s.rfind("#version 300 es\n#define HV_A\n#define HV_B 3\n", 0), 0u) << s;
   EXPECT_NE(s.find(*findShaderSource("colormap.glsl")), std::string::npos);
   EXPECT_EQ(s.find("#include"), std::string::npos);
