@@ -1,10 +1,11 @@
 #version 300 es
 // Stores *linear* depth (distance along the camera axis) mapped to [0, 1] between near and far,
 // so that the shadow bias is in scene units and the precision is uniform over the range
-// (DESIGN.md §2 step 3). gl_FragCoord.w is 1 / clip w = 1 / z_camera.
+// (Brédif 2013 §2.2; docs/design.md, step 3). gl_FragCoord.w is 1 / clip w = 1 / z_camera.
 // A surface that did not exist at the photograph's date is not drawn: the photograph sees
-// through it (issue 3, time). With HV_WRITE_BUILDING (the view's geometry pass) the building index
-// is written too, for the shading pass's validity test.
+// through it (building validity dates, docs/formats.md). With HV_WRITE_BUILDING (the view's
+// geometry pass) the building index is written too, for the date test of the mesh and point passes
+// (hv_surfaceExisted in image_test.glsl).
 precision highp float;
 uniform float u_near;
 uniform float u_far;

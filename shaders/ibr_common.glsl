@@ -1,6 +1,7 @@
-// Per-image parameters and the projection into a photograph. The C++ twins are
-// hv::ibr::packImageParams (layout) and hv::ibr::projectIntoImage (src/hv/ibr/), tested together
-// by src/hv/render/renderer_gltest.cpp.
+// Per-image parameters and the lens model of a photograph. The C++ twins are
+// hv::ibr::packImageParams (layout, src/hv/ibr/frame_plan.h) and hv::LensDistortion::distort,
+// tested together by src/hv/render/renderer_gltest.cpp and lens_gltest.cpp. The projection into a
+// photograph and the rest of the per-image test chain are in image_test.glsl.
 
 uniform highp sampler2D u_params;  // RGBA32F, kTexelsPerImage texels per row, one row per image
 
@@ -85,17 +86,4 @@ bool hv_distort(HvImage im, vec2 p, out vec2 pd) {
   d += vec2(im.l1 * a.x - im.l2 * a.y, -im.l2 * a.x);
   pd = p + im.dscale * d;
   return true;
-}
-
-// Projects a render-frame point into image `im`: ideal pixel p, distorted pixel pd, depth z.
-// Twin of hv::ibr::projectIntoImage. False when behind, outside the domain or the image.
-bool hv_project(HvImage im, vec3 P, out vec2 p, out vec2 pd, out float z) {
-  vec3 ph = im.M * (P - im.C);
-  z = ph.z;
-  p = vec2(0.0);
-  pd = vec2(0.0);
-  if (z <= 0.0) return false;
-  p = ph.xy / z;
-  if (!hv_distort(im, p, pd)) return false;
-  return all(greaterThanEqual(pd, vec2(0.0))) && all(lessThanEqual(pd, im.size));
 }

@@ -1,7 +1,8 @@
 #version 300 es
 // Mesh pass, deferred: for each output pixel, the surface point P is rebuilt from the view's
 // linear depth along the pixel's exact ray, then textured by the selected photographs
-// (DESIGN.md §2 step 5; Brédif 2013 eq. 1-2). The CPU twin is hv::ibr::referenceBlend.
+// (docs/design.md; Brédif 2013 eq. 1-2), through the per-image test chain of image_test.glsl.
+// The CPU twin is hv::ibr::referenceBlend.
 // Offscreen targets are stored top row first, so gl_FragCoord.xy is the pixel position in the
 // top-left-corner convention of hv/camera/camera.h.
 precision highp float;
@@ -10,14 +11,19 @@ precision highp sampler2D;
 precision highp sampler2DArray;
 
 #include "ibr_common.glsl"
-#include "image_binding.glsl"
+#include "image_test.glsl"
 #include "colormap.glsl"
+
+// The photographs and their depth maps: one texture2DArray of each, or with HV_NAIVE the baseline
+// the papers improve on (Brédif 2013; de Castro & Brédif 2022 §2.1), one sampler2D per photograph
+// and per depth map, HV_NAIVE_COUNT pairs declared further down by the generated naive binding.
+#ifndef HV_NAIVE
+uniform highp sampler2DArray u_images;     // premultiplied RGBA8, alpha = mask
+uniform highp sampler2DArray u_depthMaps;  // linear depth in [0, 1] between near and far
+#endif
 
 uniform highp sampler2D u_viewDepth;       // the view's geometry pass, same encoding
 uniform highp sampler2D u_idealLookup;     // distorted views: ideal pixel of each output pixel
-uniform highp sampler2D u_viewBuilding;    // building index + 1 of each view-depth texel (RGBA8)
-uniform highp sampler2D u_validity;        // per building index: days [first, last] (RGBA32F rows)
-uniform int u_validityWidth;
 uniform highp usampler2D u_tileLists;      // per tile (row tileY * tilesX + tileX): count, then indices
 uniform bool u_culling;
 uniform int u_tileSize;                    // in view-depth texels
@@ -41,7 +47,7 @@ uniform vec3 u_background;
 // > 0: pixels without geometry see a sphere of this radius around the view (iTowns'
 // backgroundDistance); from a photograph's own centre it shows the photograph whatever the radius.
 uniform float u_sphereRadius;
-uniform bool u_points;                     // the point pass ran (issue 4)
+uniform bool u_points;                     // the point pass ran (points.frag)
 uniform float u_meshPushBack;              // hybrid: the mesh's push-back in the depth maps (depth.frag)
 uniform highp sampler2D u_pointColor;      // its colour, per view-depth texel (points.frag)
 
@@ -55,25 +61,6 @@ void writeBackground() {
 
 vec4 encodeCount(int n) { return vec4(float(n & 255) / 255.0, float(n >> 8) / 255.0, 0.0, 1.0); }
 
-// Depth-map test with a slope-scaled bias: within one depth-map texel, a surface seen at angle
-// theta from its normal spans footprint * tan(theta) of depth, so the bias grows with tan(theta)
-// (clamped). `n` is the surface normal, `toP` the unit direction from the photograph to P.
-// Twin of hv::ibr::shadowBias (src/hv/ibr/frame_plan.h).
-float hv_shadowBias(HvImage im, float z, vec3 n, vec3 toP) {
-  float c = max(abs(dot(n, toP)), 0.1);
-  float tanTheta = sqrt(max(1.0 - c * c, 0.0)) / c;
-  return im.biasAbs + im.biasRel * z * (1.0 + tanTheta);
-}
-
-// The running blend of one pixel (Brédif 2013 eq. 1-2, premultiplied).
-struct HvBlend {
-  vec3 sum;
-  float alpha;
-  int count;
-  bool done;   // nearest: the first image that passes every test wins
-  float mine;  // what image u_debugImage added to alpha (its share is mine / alpha)
-};
-
 // Whether image `im` may texture P: projection, distortion domain, image bounds, and whether the
 // surface existed at the photograph's date. Outputs the depth-map and image texture coordinates
 // and the depth of P in the image.
@@ -82,39 +69,16 @@ bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out 
   dt = vec2(0.0);
   uv = vec2(0.0);
   if (!hv_project(im, P, p, pd, z)) return false;
-  if (existed.y < im.date.x || existed.x > im.date.y) return false;  // not built yet, or gone, at its date
-  dt = (p - im.depthMin) * im.depthInvSize;
+  if (!hv_existedAt(im, existed)) return false;
+  dt = hv_depthCoord(im, p);
   uv = pd * im.uvScale;
   return true;
 }
 
-// The shadow test against the depth map's stored value (Brédif 2013 §2.2).
-bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P) {
-  if (stored >= 1.0) return false;  // the photograph saw no geometry there: nothing occludes
-  float zMap = mix(im.near, im.far, stored);
-  vec3 toP = normalize(P - im.C);
-  // u_meshPushBack: the mesh counts as moved that much back along its normal (hybrid rendering,
-  // depth.frag), so only what stands more than that in front of it (not the points sampling it)
-  // shadows it; along the ray that is u_meshPushBack / cos(theta).
-  float push = u_meshPushBack > 0.0 ? u_meshPushBack / max(abs(dot(normal, toP)), 0.1) : 0.0;
-  return z > zMap + push + hv_shadowBias(im, z, normal, toP);
-}
-
-// Image `i` of the frame. Twin of the loop body of hv::ibr::referenceBlend.
-void hv_accumulate(int i, HvImage im, vec4 texel, inout HvBlend b) {
-  if (texel.a <= 0.0) return;
-  if (u_method == 1) {  // nearest: images are sorted by distance, the first that passes wins
-    b = HvBlend(texel.rgb, texel.a, 1, true, i == u_debugImage ? texel.a : 0.0);
-    return;
-  }
-  if (im.weight <= 0.0) return;
-  b.sum += im.weight * texel.rgb;
-  b.alpha += im.weight * texel.a;
-  b.count += 1;
-  if (i == u_debugImage) b.mine = im.weight * texel.a;
-}
-
 #ifdef HV_NAIVE
+// One image of the naive binding, on its own sampler pair; called once per pair by hv_naiveBlend,
+// which the generated include declares with the pairs (hv::gpu::naiveBindingGlsl,
+// src/hv/gpu/shader_assembly.cpp).
 void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, vec3 normal, vec2 existed,
                   inout HvBlend b) {
   if (b.done || i >= u_imageCount) return;
@@ -122,9 +86,10 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
   vec2 dt, uv;
   float z;
   if (!hv_applies(im, P, existed, dt, uv, z)) return;
-  if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P)) return;
-  hv_accumulate(i, im, textureLod(image, uv, 0.0), b);
+  if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P, u_meshPushBack)) return;
+  hv_accumulate(i, im, textureLod(image, uv, 0.0), u_method == 1, u_debugImage, b);
 }
+#include "generated:naive_binding"
 #endif
 
 void main() {
@@ -152,13 +117,7 @@ void main() {
     return;
   }
   // When the surface under this pixel existed (terrain: always).
-  vec2 existed = vec2(-1e7, 1e7);
-  vec4 b = texelFetch(u_viewBuilding, dpix, 0) * 255.0;
-  int building = int(b.r + 0.5) + 256 * int(b.g + 0.5) + 65536 * int(b.b + 0.5);
-  if (building > 0) {
-    int index = building - 1;
-    existed = texelFetch(u_validity, ivec2(index % u_validityWidth, index / u_validityWidth), 0).xy;
-  }
+  vec2 existed = hv_surfaceExisted(dpix);
 
   // A point sprite won the view's depth test here: its colour pass already textured it
   // (shaders/points.frag; a = 1 textured, 0.5 shown in its own colour, not covered).
@@ -170,58 +129,11 @@ void main() {
     }
   }
 
-  HvBlend blend = HvBlend(vec3(0.0), 0.0, 0, false, 0.0);
+  HvBlend blend = hv_noBlend();
 #ifdef HV_NAIVE
   // The naive binding: one step per selected image, each with its own samplers.
   int n = u_imageCount;
-#if HV_NAIVE_COUNT > 0
-  hv_naiveStep(0, u_image0, u_depth0, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 1
-  hv_naiveStep(1, u_image1, u_depth1, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 2
-  hv_naiveStep(2, u_image2, u_depth2, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 3
-  hv_naiveStep(3, u_image3, u_depth3, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 4
-  hv_naiveStep(4, u_image4, u_depth4, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 5
-  hv_naiveStep(5, u_image5, u_depth5, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 6
-  hv_naiveStep(6, u_image6, u_depth6, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 7
-  hv_naiveStep(7, u_image7, u_depth7, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 8
-  hv_naiveStep(8, u_image8, u_depth8, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 9
-  hv_naiveStep(9, u_image9, u_depth9, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 10
-  hv_naiveStep(10, u_image10, u_depth10, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 11
-  hv_naiveStep(11, u_image11, u_depth11, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 12
-  hv_naiveStep(12, u_image12, u_depth12, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 13
-  hv_naiveStep(13, u_image13, u_depth13, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 14
-  hv_naiveStep(14, u_image14, u_depth14, P, normal, existed, blend);
-#endif
-#if HV_NAIVE_COUNT > 15
-  hv_naiveStep(15, u_image15, u_depth15, P, normal, existed, blend);
-#endif
+  hv_naiveBlend(P, normal, existed, blend);
 #else
   // The images to visit: this tile's list (hv::ibr::buildTileLists), or every selected image.
   int row = 0;
@@ -237,8 +149,9 @@ void main() {
     vec2 dt, uv;
     float z;
     if (!hv_applies(im, P, existed, dt, uv, z)) continue;
-    if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P)) continue;
-    hv_accumulate(i, im, textureLod(u_images, vec3(uv, im.slice), 0.0), blend);
+    if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack))
+      continue;
+    hv_accumulate(i, im, textureLod(u_images, vec3(uv, im.slice), 0.0), u_method == 1, u_debugImage, blend);
     if (blend.done) break;
   }
 #endif

@@ -1,13 +1,15 @@
 #version 300 es
-// Point sprites, fragment side (DESIGN.md §2 steps 6-7). Each fragment finds the plane point X
-// under its pixel p = (gl_FragCoord.xy, 1) through the vector N' of its point: the depth of X in
-// the target camera is 1 / (N'.p), and X lies in the point's disk when |X - P| <= u_radius.
+// Point sprites, fragment side (de Castro & Brédif 2022 §2.3; docs/design.md). Each fragment finds
+// the plane point X under its pixel p = (gl_FragCoord.xy, 1) through the vector N' of its point:
+// the depth of X in the target camera is 1 / (N'.p), and X lies in the point's disk when
+// |X - P| <= u_radius.
 // HV_DEPTH_ONLY: writes that depth (linear, as depth.frag) — the photographs' depth maps and the
 // view's point depth pass. Otherwise the colour pass: a fragment goes on only where its depth is
 // the one the depth pass kept (u_viewDepth), then is textured through the homography of each
-// image, p_i = H'_i p + (N'.p) E_i (2022 form) or p_i = H_i p (2016 form, HV_MAT3_K), with the
-// mesh pass's distortion, domain, mask, date and shadow tests (depth of X in image i:
-// p_i.z / (N'.p)). Twins: hv::ibr::spriteProject, spriteDepth (src/hv/ibr/sprite_homography.h).
+// image, p_i = H'_i p + (N'.p) E_i (2022 form) or p_i = H_i p (2016 form, HV_MAT3_K), then
+// through the mesh pass's per-image test chain (image_test.glsl: distortion, domain, date, shadow,
+// mask, blend; depth of X in image i: p_i.z / (N'.p)). Twins: hv::ibr::spriteProject, spriteDepth
+// (src/hv/ibr/sprite_homography.h).
 precision highp float;
 precision highp int;
 precision highp sampler2D;
@@ -53,6 +55,7 @@ void main() {
 }
 #else
 #include "ibr_common.glsl"
+#include "image_test.glsl"
 
 uniform highp sampler2DArray u_images;
 uniform highp sampler2DArray u_depthMaps;
@@ -74,13 +77,6 @@ flat in mat3 v_H[HV_MAT3_K];
 #endif
 
 out vec4 o_color;  // rgb; a = 1 textured, 0.5 untextured (own colour), 0 no point
-
-// Twin of hv_shadowBias in ibr_shade.frag (hv::ibr::shadowBias).
-float hv_pointBias(HvImage im, float z, vec3 n, vec3 toP) {
-  float c = max(abs(dot(n, toP)), 0.1);
-  float tanTheta = sqrt(max(1.0 - c * c, 0.0)) / c;
-  return im.biasAbs + im.biasRel * z * (1.0 + tanTheta);
-}
 
 float hv_linearDepth(float stored) { return mix(u_near, u_far, stored); }
 
@@ -115,8 +111,10 @@ void main() {
   // The surface normal for the slope-scaled bias: N is parallel to M^T N' (render frame).
   vec3 normal = normalize(transpose(u_Minv) * v_nPrime);
   vec3 X = u_C + z * (u_Minv * p);  // render frame
-  vec3 sum = vec3(0.0);
-  float alpha = 0.0;
+  // When the surface under this pixel existed, as the mesh pass reads it: the building the view's
+  // geometry pass drew there (the one a façade's points sample), else always.
+  vec2 existed = hv_surfaceExisted(ivec2(gl_FragCoord.xy));
+  HvBlend blend = hv_noBlend();
   int n = u_imageCount;
 #ifdef HV_MAT3_K
   n = min(n, HV_MAT3_K);
@@ -135,28 +133,19 @@ void main() {
     float zi = pi.z / np;
     vec2 pIdeal = pi.xy / pi.z;
     vec2 pd;
-    if (!hv_distort(im, pIdeal, pd)) continue;
-    if (any(lessThan(pd, vec2(0.0))) || any(greaterThan(pd, im.size))) continue;
-    vec2 dt = (pIdeal - im.depthMin) * im.depthInvSize;
-    float zMap = mix(im.near, im.far, texture(u_depthMaps, vec3(dt, im.slice)).r);
+    if (!hv_inImage(im, pIdeal, pd)) continue;
+    if (!hv_existedAt(im, existed)) continue;
+    float storedMap = texture(u_depthMaps, vec3(hv_depthCoord(im, pIdeal), im.slice)).r;
     if (u_epsilonTest) {
       // Without classification the depth maps hold the city model only: a point well in front of
       // it (a tree, a car) is not what the photograph shows there (2022 §2.4).
-      if (abs(zi - zMap) > u_epsilon) continue;
-    } else if (u_occlusion) {
-      if (zi > zMap + hv_pointBias(im, zi, normal, normalize(X - im.C))) continue;
+      if (abs(zi - mix(im.near, im.far, storedMap)) > u_epsilon) continue;
+    } else if (u_occlusion && hv_shadowed(im, zi, storedMap, normal, X, 0.0)) {
+      continue;
     }
-    vec4 texel = textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0);
-    if (texel.a <= 0.0) continue;
-    if (u_method == 1) {
-      sum = texel.rgb;
-      alpha = texel.a;
-      break;
-    }
-    if (im.weight <= 0.0) continue;
-    sum += im.weight * texel.rgb;
-    alpha += im.weight * texel.a;
+    hv_accumulate(i, im, textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0), u_method == 1, -1, blend);
+    if (blend.done) break;
   }
-  o_color = alpha > 0.0 ? vec4(sum / alpha, 1.0) : vec4(own, 0.5);
+  o_color = blend.alpha > 0.0 ? vec4(blend.sum / blend.alpha, 1.0) : vec4(own, 0.5);
 }
 #endif

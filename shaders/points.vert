@@ -1,5 +1,5 @@
 #version 300 es
-// Point sprites (DESIGN.md §2 step 6; Devaux & Brédif 2016 §3, de Castro & Brédif 2022 §2.3).
+// Point sprites (Devaux & Brédif 2016 §3, de Castro & Brédif 2022 §2.3; docs/design.md).
 // Each point is a screen-aligned sprite bounding the disk of radius u_radius in its tangent plane;
 // the fragment shader (points.frag) finds the plane point under each of its pixels exactly. The
 // target's pixels are gl_FragCoord.xy: u_M = targetFromPix K R (hv::ibr::targetCameraMatrix).

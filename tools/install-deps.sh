@@ -13,6 +13,7 @@ packages=(
   libglm-dev libeigen3-dev nlohmann-json3-dev libnanoflann-dev libcli11-dev
   libstb-dev libpng-dev
   libgtest-dev libbenchmark-dev
+  glslang-tools                                         # glslangValidator: GLSL ES 3.00 checked offline (shader_validate)
   libglfw3-dev libimgui-dev                             # the desktop viewer (histoview view): window, UI panel
   xvfb xauth                                            # the viewer's test runs it on a virtual X display
 )

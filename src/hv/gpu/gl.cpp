@@ -1,5 +1,6 @@
 #include "hv/gpu/gl.h"
 
+#include "hv/gpu/shader_assembly.h"
 #include "hv/gpu/shader_sources.h"
 
 #include <sstream>
@@ -94,39 +95,6 @@ const std::string* embedded(const std::string& file) {
   return src;
 }
 }  // namespace
-
-std::string preprocessShader(const std::string& file, const std::vector<std::string>& defines) {
-  const std::string* src = findShaderSource(file);
-  if (!src) throw std::runtime_error("shader not embedded: " + file);
-  return preprocessShader(ShaderText{file, *src}, defines);
-}
-
-std::string preprocessShader(const ShaderText& shader, const std::vector<std::string>& defines) {
-  const std::string& file = shader.name;
-  std::istringstream in(shader.source);
-  std::ostringstream out;
-  std::string line;
-  bool versionSeen = false;
-  while (std::getline(in, line)) {
-    if (line.rfind("#include \"", 0) == 0) {
-      const auto end = line.find('"', 10);
-      const std::string inc = line.substr(10, end - 10);
-      const std::string* incSrc = findShaderSource(inc);
-      if (!incSrc) throw std::runtime_error(file + ": included shader not embedded: " + inc);
-      out << *incSrc << "\n";
-      continue;
-    }
-    out << line << "\n";
-    if (!versionSeen && line.rfind("#version", 0) == 0) {
-      versionSeen = true;
-      for (std::string d : defines) {
-        if (const auto eq = d.find('='); eq != std::string::npos) d[eq] = ' ';  // NAME=VALUE
-        out << "#define " << d << "\n";
-      }
-    }
-  }
-  return out.str();
-}
 
 namespace {
 GLuint compile(GLenum type, const std::string& file, const std::string& source) {

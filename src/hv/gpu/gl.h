@@ -3,6 +3,8 @@
 // subset).
 #pragma once
 
+#include "hv/gpu/shader_assembly.h"
+
 #include <GLES3/gl3.h>
 
 #include <map>
@@ -12,7 +14,7 @@
 
 namespace hv::gpu {
 
-// What the context can do; queried once at start and used to size everything (DESIGN.md §4).
+// What the context can do; queried once at start and used to size everything.
 struct GlLimits {
   int maxTextureSize = 0;
   int maxArrayTextureLayers = 0;
@@ -74,16 +76,8 @@ Buffer makeBuffer();
 Framebuffer makeFramebuffer();
 VertexArray makeVertexArray();
 
-// A linked program from two embedded shader files. `#include "x.glsl"` lines are replaced by the
-// embedded file; `defines` ("NAME" or "NAME=VALUE") are inserted after the #version line. Throws
-// with the info log.
-// A shader given as text rather than by embedded file name (generated sources, tests); its
-// `#include "x.glsl"` lines still resolve to embedded files.
-struct ShaderText {
-  std::string name;  // for messages
-  std::string source;
-};
-
+// A linked program from two shaders, each assembled by preprocessShader (hv/gpu/shader_assembly.h:
+// includes resolved, `defines` inserted after the #version line). Throws with the info log.
 class Program {
  public:
   Program() = default;
@@ -98,10 +92,6 @@ class Program {
   GlName<deleteProgram> name_;
   mutable std::map<std::string, GLint> uniforms_;
 };
-
-// The full source after include and define processing (for tests and error messages).
-std::string preprocessShader(const std::string& file, const std::vector<std::string>& defines);
-std::string preprocessShader(const ShaderText& shader, const std::vector<std::string>& defines);
 
 // Checks that the bound framebuffer is complete; throws naming `what` otherwise.
 void checkFramebuffer(const char* what);

@@ -87,7 +87,7 @@ struct DepthBias {
 
 // Slope-scaled shadow bias (scene units) for a point at depth z seen at `cosIncidence` =
 // |n . (P - C_i)/|P - C_i|| by the photograph: absolute + relative * z * (1 + tan(theta)), with
-// cos clamped at 0.1. Twin of hv_shadowBias in shaders/ibr_shade.frag.
+// cos clamped at 0.1. Twin of hv_shadowBias in shaders/image_test.glsl.
 double shadowBias(const DepthBias& bias, double z, double cosIncidence);
 
 struct ImageParams {

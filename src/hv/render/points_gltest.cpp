@@ -13,6 +13,7 @@
 #include "hv/image/native/png_write.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/testing/data_dir.h"
+#include "hv/util/dates.h"
 
 #include <gtest/gtest.h>
 
@@ -21,6 +22,7 @@
 #include <filesystem>
 #include <iostream>
 #include <set>
+#include <utility>
 
 namespace hv::render {
 namespace {
@@ -176,6 +178,42 @@ TEST_F(PointsGlTest, Mat3AndPlaneVectorFormsAgree) {
             << " px differ by more than 1\n";
   EXPECT_GT(covered, 5000);
   EXPECT_LE(differing, covered / 1000);  // a few edge pixels where the depth winner differs
+}
+
+// The date test of the per-image chain (shaders/image_test.glsl), in the point pass as in the mesh
+// pass: points sampling the façade of a building built in 1950 are not textured by a photograph of
+// 1905 (whose depth map sees through the building to the far one, so no shadow hides them), and are
+// by one of 1960.
+TEST_F(PointsGlTest, PhotographsDoNotTexturePointsOfBuildingsThatDidNotExistAtTheirDate) {
+  const glm::dvec3 o = kStreetOrigin;
+  auto centre = [&](const std::string& photoDate) {
+    Scene scene = spriteScene();
+    // Tag the buildings: 0 = near (built in 1950), 1 = far (always there).
+    scene.buildings.triangleTags.assign(scene.buildings.triangles.size(), 1);
+    for (size_t t = 0; t < 12; ++t) scene.buildings.triangleTags[t] = 0;  // the near box's 12 triangles come first
+    DateInterval builtIn1950;
+    builtIn1950.first = parseDate("1950")->first;
+    scene.buildingValidity = {builtIn1950, DateInterval{}};
+    // Points 10 cm in front of the near building's façade (y = 10), facing the cameras.
+    for (double x = -3.0; x <= 3.0; x += 0.2)
+      for (double z = 2.0; z <= 10.0; z += 0.2) addPoint(scene, o + glm::dvec3(x, 9.9, z), glm::vec3(0, -1, 0));
+    organizeChunks(scene.points);
+    addPhoto(scene, testing::lookAt("red", o + glm::dvec3(0, -10, 6), o + glm::dvec3(0, 30, 10), 160, 120, 110),
+             testing::solidImage(160, 120, 255, 0, 0));
+    scene.photos.back().date = photoDate;
+    RenderSettings st = pointSettings(1);
+    st.points.radius = 0.2;
+    Diagnostics diag;
+    Renderer renderer(scene, st, diag);
+    const Camera front = testing::lookAt("f", o + glm::dvec3(0, 2, 6), o + glm::dvec3(0, 10, 6), 80, 60, 40);
+    const RenderOutput out = renderer.render(front);
+    EXPECT_TRUE(diag.ok());
+    EXPECT_GT(renderer.stats().pointsDrawn, 0u);
+    // The centre pixel's red and alpha (alpha 255: textured; 0: a point in its own colour).
+    return std::pair<int, int>(out.rgba.at(40, 30, 0), out.rgba.at(40, 30, 3));
+  };
+  EXPECT_EQ(centre("1905-06-01").second, 0);
+  EXPECT_EQ(centre("1960-06-01"), std::make_pair(255, 255));
 }
 
 TEST_F(PointsGlTest, LargestMat3ImageCountThatLinks) {

@@ -560,6 +560,13 @@ struct Renderer::Impl {
     glUniform1i(p.uniform("u_params"), kUnitParams);
     glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
     glUniform1i(p.uniform("u_pointParams"), kUnitPointParams);
+    // The date test as in the mesh pass: the building the view's geometry pass drew under each
+    // pixel, and its validity (shaders/image_test.glsl, hv_surfaceExisted).
+    bindUnit(kUnitViewBuilding, GL_TEXTURE_2D, viewBuilding.id());
+    bindUnit(kUnitValidity, GL_TEXTURE_2D, validityTexture.id());
+    glUniform1i(p.uniform("u_viewBuilding"), kUnitViewBuilding);
+    glUniform1i(p.uniform("u_validity"), kUnitValidity);
+    glUniform1i(p.uniform("u_validityWidth"), validityWidth);
     int n = int(params.size());
     if (mat3K > 0 && n > mat3K) {
       if (!warnedMat3)

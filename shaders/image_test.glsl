@@ -1,0 +1,110 @@
+// The per-image test chain shared by the mesh pass (ibr_shade.frag) and the point pass
+// (points.frag): whether photograph `im` textures a surface point, and what it adds to the pixel
+// (Brédif 2013 eq. 1-2 and §2.2; docs/design.md). In chain order:
+//   project      the pass's own (hv_project for a mesh point, the sprite homography for a point)
+//   lens, domain hv_inImage      distortion domain and image bounds
+//   date         hv_existedAt    the surface existed at the photograph's date
+//   depth test   hv_shadowed     the photograph's depth map, slope-scaled bias
+//   mask, blend  hv_accumulate   alpha = mask; weights or nearest
+// Needs ibr_common.glsl (HvImage, hv_distort) included before it. The C++ twin of the whole chain
+// is the loop body of hv::ibr::referenceBlend (src/hv/ibr/reference_blend.cpp).
+
+uniform highp sampler2D u_viewBuilding;  // building index + 1 of each view-depth texel (RGBA8)
+uniform highp sampler2D u_validity;      // per building index: days [first, last] (RGBA32F rows)
+uniform int u_validityWidth;
+
+// When the surface drawn at view-depth texel `dpix` by the view's geometry pass existed, in days
+// (depth.frag writes the building index, u_validity holds each building's interval); terrain and
+// pixels without a building: always. The intervals are hv::ibr::gpuDays (src/hv/ibr/frame_plan.h)
+// of Scene::buildingValidity, uploaded by the renderer.
+vec2 hv_surfaceExisted(ivec2 dpix) {
+  vec2 existed = vec2(-1e7, 1e7);
+  vec4 b = texelFetch(u_viewBuilding, dpix, 0) * 255.0;
+  int building = int(b.r + 0.5) + 256 * int(b.g + 0.5) + 65536 * int(b.b + 0.5);
+  if (building > 0) {
+    int index = building - 1;
+    existed = texelFetch(u_validity, ivec2(index % u_validityWidth, index / u_validityWidth), 0).xy;
+  }
+  return existed;
+}
+
+// Lens and domain: the distorted pixel pd of ideal pixel p, false outside the distortion domain or
+// the image. The tail of hv::ibr::projectIntoImage (src/hv/ibr/reference_blend.cpp).
+bool hv_inImage(HvImage im, vec2 p, out vec2 pd) {
+  if (!hv_distort(im, p, pd)) return false;
+  return all(greaterThanEqual(pd, vec2(0.0))) && all(lessThanEqual(pd, im.size));
+}
+
+// Projects a render-frame point into image `im`: ideal pixel p, distorted pixel pd, depth z.
+// Twin of hv::ibr::projectIntoImage. False when behind, outside the domain or the image.
+bool hv_project(HvImage im, vec3 P, out vec2 p, out vec2 pd, out float z) {
+  vec3 ph = im.M * (P - im.C);
+  z = ph.z;
+  p = vec2(0.0);
+  pd = vec2(0.0);
+  if (z <= 0.0) return false;
+  p = ph.xy / z;
+  return hv_inImage(im, p, pd);
+}
+
+// Date: whether a surface that existed over `existed` (days) was there at the photograph's date;
+// otherwise the photograph neither textures it nor is hidden by it (depth.frag leaves it out of
+// the depth map). Twin of hv::overlaps (src/hv/util/dates.h) on hv::ibr::gpuDays intervals.
+bool hv_existedAt(HvImage im, vec2 existed) {
+  return !(existed.y < im.date.x || existed.x > im.date.y);
+}
+
+// Depth-map texture coordinates of ideal pixel p (the depth map covers the ideal rectangle
+// [depthMin, depthMin + 1 / depthInvSize], hv::ibr::idealRectCoveringImage).
+vec2 hv_depthCoord(HvImage im, vec2 p) { return (p - im.depthMin) * im.depthInvSize; }
+
+// Depth-map test with a slope-scaled bias: within one depth-map texel, a surface seen at angle
+// theta from its normal spans footprint * tan(theta) of depth, so the bias grows with tan(theta)
+// (clamped). `n` is the surface normal, `toP` the unit direction from the photograph to P.
+// Twin of hv::ibr::shadowBias (src/hv/ibr/frame_plan.cpp).
+float hv_shadowBias(HvImage im, float z, vec3 n, vec3 toP) {
+  float c = max(abs(dot(n, toP)), 0.1);
+  float tanTheta = sqrt(max(1.0 - c * c, 0.0)) / c;
+  return im.biasAbs + im.biasRel * z * (1.0 + tanTheta);
+}
+
+// The shadow test of P, at depth z in image `im`, against the depth map's stored value (Brédif
+// 2013 §2.2). `pushBack`: the surface counts as moved that much back along its normal (the mesh in
+// hybrid rendering, depth.frag; 0 for points), so only what stands more than that in front of it
+// (not the points sampling it) shadows it; along the ray that is pushBack / cos(theta).
+// hv::ibr::referenceBlend takes visibility as a callback: the GL tests check this test against
+// ray casting (src/hv/render/renderer_gltest.cpp).
+bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P, float pushBack) {
+  if (stored >= 1.0) return false;  // the photograph saw no geometry there: nothing occludes
+  float zMap = mix(im.near, im.far, stored);
+  vec3 toP = normalize(P - im.C);
+  float push = pushBack > 0.0 ? pushBack / max(abs(dot(normal, toP)), 0.1) : 0.0;
+  return z > zMap + push + hv_shadowBias(im, z, normal, toP);
+}
+
+// The running blend of one pixel (Brédif 2013 eq. 1-2, premultiplied).
+struct HvBlend {
+  vec3 sum;
+  float alpha;
+  int count;
+  bool done;   // nearest: the first image that passes every test wins
+  float mine;  // what image `debugImage` added to alpha (its share is mine / alpha)
+};
+
+HvBlend hv_noBlend() { return HvBlend(vec3(0.0), 0.0, 0, false, 0.0); }
+
+// Mask and blend: image `i`'s texel (premultiplied, alpha = mask) added to `b`; `nearest`: images
+// are sorted by distance, the first that passes wins. `debugImage`: the image whose share is kept
+// in b.mine (-1: none). Twin of the loop body of hv::ibr::referenceBlend.
+void hv_accumulate(int i, HvImage im, vec4 texel, bool nearest, int debugImage, inout HvBlend b) {
+  if (texel.a <= 0.0) return;
+  if (nearest) {
+    b = HvBlend(texel.rgb, texel.a, 1, true, i == debugImage ? texel.a : 0.0);
+    return;
+  }
+  if (im.weight <= 0.0) return;
+  b.sum += im.weight * texel.rgb;
+  b.alpha += im.weight * texel.a;
+  b.count += 1;
+  if (i == debugImage) b.mine = im.weight * texel.a;
+}
