@@ -4,7 +4,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -297,12 +296,19 @@ std::string formatNumber(double v) {
   return formatDouble(v);
 }
 
+std::string trimmed(const std::string& text) {
+  const size_t b = text.find_first_not_of(" \t"), e = text.find_last_not_of(" \t");
+  return b == std::string::npos ? std::string() : text.substr(b, e - b + 1);
+}
+
+// "2, 6,9" -> {"2", "6", "9"} (spaces around items dropped, as the command line's --background
+// "0, 0, 0" always allowed); "" -> {}.
 std::vector<std::string> splitCommas(const std::string& text) {
   std::vector<std::string> items;
-  if (text.empty()) return items;
+  if (trimmed(text).empty()) return items;
   std::string item;
   std::istringstream in(text);
-  while (std::getline(in, item, ',')) items.push_back(item);
+  while (std::getline(in, item, ',')) items.push_back(trimmed(item));
   if (text.back() == ',') items.push_back("");
   return items;
 }
@@ -313,17 +319,19 @@ std::string join(const std::vector<std::string>& items, const char* sep) {
   return out;
 }
 
-std::optional<std::int64_t> readInt(const std::string& text) {
+std::optional<std::int64_t> readInt(const std::string& spaced) {
+  const std::string text = trimmed(spaced);
   if (text.empty()) return std::nullopt;
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (*end != '\0' || errno == ERANGE || std::isspace(static_cast<unsigned char>(text[0]))) return std::nullopt;
+  if (*end != '\0' || errno == ERANGE) return std::nullopt;
   return std::int64_t(v);
 }
 
-std::optional<double> readDouble(const std::string& text) {
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return std::nullopt;
+std::optional<double> readDouble(const std::string& spaced) {
+  const std::string text = trimmed(spaced);
+  if (text.empty()) return std::nullopt;
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   if (*end != '\0' || !std::isfinite(v)) return std::nullopt;

@@ -131,8 +131,9 @@ TEST(SettingsSchema, TextReachesTheRightField) {
   EXPECT_EQ(s.blend.sigma, RenderSettings{}.blend.sigma);
   setFromText(s, "memory-budget", "256");
   EXPECT_EQ(s.memoryBudgetBytes, std::size_t(256) << 20);
-  setFromText(s, "background", "255,0,51");
+  setFromText(s, "background", "255, 0, 51");  // spaces around the components, as ever
   EXPECT_EQ(s.background, glm::dvec3(1.0, 0.0, 0.2));
+  EXPECT_EQ(toText(s, "background"), "255,0,51");
   setFromText(s, "from", "1905");
   ASSERT_TRUE(s.blend.window);
   EXPECT_EQ(s.blend.window->first, daysFromCivil(1905, 1, 1));
@@ -150,7 +151,7 @@ TEST(SettingsSchema, TextReachesTheRightField) {
   EXPECT_EQ(s.points.color, PointColorMode::Intensity);
   setFromText(s, "blend-method", "nearest");
   EXPECT_EQ(s.blend.method, ibr::BlendMethod::Nearest);
-  setFromText(s, "kept-classes", "2,6");
+  setFromText(s, "kept-classes", "2, 6");
   EXPECT_EQ(s.points.keptClasses, (std::vector<int>{2, 6}));
   setFromText(s, "kept-classes", "");
   EXPECT_TRUE(s.points.keptClasses.empty());
