@@ -90,7 +90,7 @@ function(hv_define_modules)
   hv_module(io PORTABLE DIRS io DEPS camera scene util EXTERNAL json)
   hv_module(ibr PORTABLE DIRS ibr DEPS camera image scene util PRIVATE_EXTERNAL nanoflann stb)
   hv_module(gpu PORTABLE DIRS gpu DEPS image util EXTERNAL gles glm EXTRA_SOURCES ${HV_SHADER_CPP})
-  hv_module(render PORTABLE DIRS render DEPS ibr image scene util PRIVATE_DEPS camera gpu)
+  hv_module(render PORTABLE DIRS render DEPS ibr image scene util PRIVATE_DEPS camera gpu PRIVATE_EXTERNAL json)
   hv_module(viewer PORTABLE DIRS viewer DEPS camera PRIVATE_DEPS scene)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)

@@ -218,6 +218,25 @@ run info-micmac info "$mm/scene.json"
 expect_out "info (micmac)" "Lambert-93 \\(EPSG:2154\\)"
 expect_out "info (micmac)" "cameras from .*EPSG:4978"
 
+# --- settings: the README's table of render settings is the command's output (docs cannot
+# drift from the schema), and a render setting's bad value is refused naming it
+run settings settings --markdown
+expect_rc "settings --markdown" 0
+check "README.md's settings table is the output of histoview settings --markdown" \
+  python3 - "$out" "$(dirname "$0")/../README.md" <<'PY'
+import sys
+table = open(sys.argv[1]).read()
+readme = open(sys.argv[2]).read()
+begin, end = "<!-- settings:begin -->\n", "<!-- settings:end -->"
+assert readme[readme.index(begin) + len(begin):readme.index(end)] == table
+PY
+run settings-json settings --json
+expect_rc "settings --json" 0
+expect_out "settings --json" '"name": "depth-size"'
+run bad-k render "$city/scene.json" --views "$city/views.json" --out "$DIR/rbadk" --k 0
+expect_rc "render --k 0" fail
+expect_out "render --k 0" "--k.*a whole number >= 1"
+
 echo "cli test took $((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"
 ((failed == 0))

@@ -146,3 +146,18 @@ for debug in "weight:$photo --frusta" "depth:$photo"; do
   echo "debug view $spec $extra (photograph nearest the view):"
   compare "$DIR/viewer-$name.png" "$DIR/render-$name/$id.$name-preview.png" "$DIR" || exit 1
 done
+
+# The control panel, whose render-settings widgets are made from the settings schema
+# (src/hv/viewer/desktop/settings_panel.cpp): drawn with its Blending, Points and Debug sections
+# open (--points, --debug), every frame until convergence, and in the screenshot. A widget that
+# breaks Dear ImGui's ID or disabled-state stacks aborts on its assertions.
+xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
+  --size 640x480 --screenshot "$DIR/viewer-panel.png" --screenshot-ui --exit-after-converge --frames 400 \
+  --points --frusta --debug count >"$DIR/view-panel.out" 2>&1
+rc=$?
+if ((rc != 0)) || [[ ! -s $DIR/viewer-panel.png ]]; then
+  echo "FAIL: histoview view with the panel exited with $rc (or wrote no screenshot); output:"
+  tail -30 "$DIR/view-panel.out"
+  exit 1
+fi
+echo "the panel of the render settings: drawn, $(grep -o 'converged after [0-9]* frame(s)' "$DIR/view-panel.out")"

@@ -2,8 +2,9 @@
 // arrives into the WebAssembly module's in-memory file system, and drives hv::render::Renderer
 // (apps/web/hv_web.cpp) from requestAnimationFrame. No framework. URL parameters:
 //   camera=ID  start at this view (views.json) or photograph; default: an overview
-//   w=, h=     canvas size (default 960x540); k=, depth= (depth-map size, default 1024)
-//   points=0   start with the point cloud hidden (default: shown when the scene has one)
+//   w=, h=     canvas size (default 960x540)
+//   NAME=TEXT  any render setting, as on the command line (`histoview settings`), e.g. k=4,
+//              depth-size=2048 (depth= too), points=0 (start with the point cloud hidden)
 //   log=debug  the renderer's log level in the console (debug, info, warn, error, off)
 // For scripts and tests, window.hv exposes the state (loaded, progress, errors) and a few calls.
 'use strict';
@@ -12,8 +13,6 @@
   const params = new URLSearchParams(location.search);
   const intParam = (name, def) => { const v = parseInt(params.get(name), 10); return Number.isFinite(v) && v > 0 ? v : def; };
   const W = intParam('w', 960), H = intParam('h', 540);
-  const K = intParam('k', 8), DEPTH = intParam('depth', 1024);
-  const POINTS = params.get('points') !== '0';
   const ROOT = '/scene/';
   const FETCHES_IN_FLIGHT = 4;
   const SCENE_SHARE = 0.1;  // of the progress bar: the scene files; the photographs take the rest
@@ -22,7 +21,6 @@
   const canvas = $('view');
   canvas.width = W;
   canvas.height = H;
-  $('k').value = K;
 
   const hv = window.hv = { loaded: false, progress: 0, errors: [], status: null, viewer: null };
 
@@ -112,7 +110,16 @@
 
     const viewer = hv.viewer = new Module.WebViewer('#view');
     if (viewer.error()) throw new Error(viewer.error());
-    const loadErrors = viewer.load(ROOT + 'scene_web.json', K, DEPTH);
+    // Render settings named in the URL, before the renderer is made (so those read at its
+    // construction apply too).
+    for (const [name, value] of params) {
+      const setting = name === 'depth' ? 'depth-size' : name;
+      if (!['camera', 'w', 'h', 'log'].includes(name)) {
+        const err = viewer.setSetting(setting, value);
+        if (err) showError('URL parameter ' + name + '=' + value + ': ' + err);
+      }
+    }
+    const loadErrors = viewer.load(ROOT + 'scene_web.json');
     if (loadErrors) loadErrors.trim().split('\n').forEach(showError);
     console.log('histoview: ' + viewer.glInfo());
     const st = JSON.parse(viewer.status());
@@ -127,12 +134,7 @@
       viewer.overview(W, H);
     }
     $('speed').value = viewer.speed().toFixed(1);
-    if (viewer.hasPoints()) {
-      $('points-panel').hidden = false;
-      $('points').checked = POINTS;
-      viewer.setPoints(POINTS);
-      if (manifest.points) $('points-count').textContent = '(' + manifest.points.count.toLocaleString('en') + ')';
-    }
+    buildSettings(viewer, manifest.points ? manifest.points.count : 0);
 
     const photos = JSON.parse(viewer.photos());
     buildPhotoList(viewer, photos);
@@ -184,19 +186,7 @@
       viewer.setSpeed(Math.min(1e4, Math.max(0.05, viewer.speed() * Math.pow(1.25, e.deltaY < 0 ? 1 : -1))));
       $('speed').value = viewer.speed().toFixed(1);
     }, { passive: false });
-    $('k').addEventListener('change', (e) => viewer.setK(parseInt(e.target.value, 10) || 1));
-    $('occlusion').addEventListener('change', (e) => viewer.setOcclusion(e.target.checked));
-    $('dmax').addEventListener('change', (e) => viewer.setDepthMapsPerFrame(parseInt(e.target.value, 10) || 1));
     $('speed').addEventListener('change', (e) => viewer.setSpeed(parseFloat(e.target.value) || 1));
-    $('masks').addEventListener('change', (e) => viewer.setMasks(e.target.checked));
-    $('lens').addEventListener('change', (e) => viewer.setLensDistortion(e.target.checked));
-    for (const layer of ['terrain', 'buildings', 'mesh'])
-      $(layer).addEventListener('change', (e) => viewer.setLayer(layer, e.target.checked));
-    $('points').addEventListener('change', (e) => viewer.setPoints(e.target.checked));
-    $('hide-transient').addEventListener('change', (e) => viewer.setHideTransient(e.target.checked));
-    $('point-filter').addEventListener('change', (e) => viewer.setPointFilter(e.target.value));
-    $('frusta').addEventListener('change', (e) => viewer.setFrusta(e.target.checked));
-    $('debug-view').addEventListener('change', (e) => viewer.setDebugView(e.target.value));
 
     const down = (...codes) => codes.some((c) => keys.has(c)) ? 1 : 0;
     function tick(now) {
@@ -235,6 +225,65 @@
       return t[Math.floor(t.length / 2)];
     };
     canvas.focus();
+  }
+
+  // The render settings' controls, made from the schema the renderer declares
+  // (viewer.settingsSchema(), src/hv/render/settings_schema.h): a checkbox per boolean, a list of
+  // the spellings, a number field, or a text field (lists, dates, values that may be "auto"), a
+  // section per group; each change goes through viewer.setSetting, as the command line's options
+  // do. A control's id is the setting's name.
+  const OPEN_GROUPS = ['Blending', 'Geometry', 'Points', 'Debug'];
+  function buildSettings(viewer, pointCount) {
+    const box = $('settings');
+    const sections = new Map();
+    for (const s of JSON.parse(viewer.settingsSchema())) {
+      if (s.group === 'Points' && !viewer.hasPoints()) continue;
+      let section = sections.get(s.group);
+      if (!section) {
+        section = document.createElement('details');
+        section.open = OPEN_GROUPS.includes(s.group);
+        const summary = document.createElement('summary');
+        summary.textContent = s.group + (s.group === 'Points' && pointCount ? ` (${pointCount.toLocaleString('en')})` : '');
+        section.appendChild(summary);
+        box.appendChild(section);
+        sections.set(s.group, section);
+      }
+      const label = document.createElement('label');
+      label.title = `--${s.name}: ${s.help}` + (s.unit ? ` (${s.unit})` : '') + `; ${s.expected}` +
+                    (s.live ? '' : '; changing it makes a new renderer');
+      let input;
+      if (s.type === 'bool') {
+        input = document.createElement('input');
+        input.type = 'checkbox';
+        input.checked = s.value === 'true';
+      } else if (s.type === 'enum') {
+        input = document.createElement('select');
+        for (const spelling of s.spellings) input.add(new Option(spelling, spelling));
+        input.value = s.value;
+      } else {
+        input = document.createElement('input');
+        const numeric = (s.type === 'int' || s.type === 'double') && !s.auto;
+        input.type = numeric ? 'number' : 'text';
+        if (numeric) {
+          if (s.min !== null) input.min = s.min;
+          if (s.max !== null) input.max = s.max;
+          input.step = s.type === 'int' ? 1 : 'any';
+        } else {
+          input.placeholder = s.auto ? 'auto' : '';
+        }
+        input.value = s.value;
+      }
+      input.id = s.name;
+      input.addEventListener('change', () => {
+        const err = viewer.setSetting(s.name, input.type === 'checkbox' ? String(input.checked) : input.value);
+        input.classList.toggle('invalid', !!err);
+        $('setting-error').textContent = err;
+        if (err) console.warn('histoview: ' + err);
+      });
+      if (s.type === 'bool') label.append(input, ' ' + s.name);
+      else label.append(s.name + ' ', input);
+      section.appendChild(label);
+    }
   }
 
   function buildPhotoList(viewer, photos) {

@@ -11,6 +11,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/web_scene.h"
 #include "hv/render/renderer.h"
+#include "hv/render/settings_schema.h"
 #include "hv/util/log.h"
 #include "hv/viewer/navigation.h"
 
@@ -62,9 +63,10 @@ class WebViewer {
   std::string error() const { return error_; }
   std::string glInfo() const { return context_ > 0 ? gpu::glDescription() : std::string(); }
 
-  // Reads the scene from the in-memory file system (manifest path) and creates the renderer.
-  // Every photograph starts excluded until photoArrived. Returns "" or the errors, one per line.
-  std::string load(const std::string& manifest, int k, int depthSize) {
+  // Reads the scene from the in-memory file system (manifest path) and creates the renderer with
+  // the settings set so far (setSetting). Every photograph starts excluded until photoArrived.
+  // Returns "" or the errors, one per line.
+  std::string load(const std::string& manifest) {
     if (context_ <= 0) return error_;
     try {
       Diagnostics diag;
@@ -73,20 +75,11 @@ class WebViewer {
       const auto t0 = std::chrono::steady_clock::now();
       scene_ = std::make_unique<Scene>(readWebScene(manifest, options, diag));
       sceneMs_ = msSince(t0);  // the points' chunk organisation (hv::organizeChunks) included
-      render::RenderSettings s;
-      s.decodeThreads = 0;
-      // The points as `render --points` draws them (its defaults), uploaded at the first frame
-      // that shows them: on when the scene has some, switched from the page (setPoints).
-      s.points.enabled = !scene_->points.empty();
-      s.blend.k = k;
-      s.depthSize = depthSize;
-      s.readBackColour = false;
-      s.maxSliceSize = 1024;
-      s.memoryBudgetBytes = std::size_t(384) << 20;
-      s.decodeMemoryBytes = std::size_t(96) << 20;
-      s.depthMapsPerFrame = 4;
-      for (const auto& p : scene_->photos) s.blend.exclude.push_back(p.camera.id);
-      renderer_ = std::make_unique<render::Renderer>(*scene_, s, diag_);
+      arrivedPhoto_.assign(scene_->photos.size(), false);
+      // The points as `render --points` draws them (its defaults): on when the scene has some,
+      // unless the page said otherwise (points=0).
+      if (!pointsSet_) settings_.points.enabled = !scene_->points.empty();
+      renderer_ = std::make_unique<render::Renderer>(*scene_, rendererSettings(), diag_);
       presenter_ = std::make_unique<gpu::Presenter>();
       nav_ = std::make_unique<Navigator>(scene_->up, nullptr);
       const double spacing = scene_->cameraSpacing();
@@ -128,9 +121,9 @@ class WebViewer {
   }
   // The photograph's files are in the file system: it may texture the view from the next frame.
   void photoArrived(int i) {
-    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
-    auto& ex = renderer_->settings().blend.exclude;
-    ex.erase(std::remove(ex.begin(), ex.end(), scene_->photos[size_t(i)].camera.id), ex.end());
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size() || arrivedPhoto_[size_t(i)]) return;
+    arrivedPhoto_[size_t(i)] = true;
+    renderer_->settings().blend.exclude = rendererSettings().blend.exclude;
     ++arrived_;
     dirty_ = true;
   }
@@ -190,6 +183,7 @@ class WebViewer {
   void focusPhoto(int i) {
     if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
     focused_ = i;
+    settings_.debug.photo = i;
     renderer_->settings().debug.photo = i;  // the weight and depth-map views show the chosen one
     dirty_ = true;
     focusPath_ = std::make_unique<FocusContextPath>(nav_->camera(), scene_->photos[size_t(i)].camera, focus_, nullptr);
@@ -205,40 +199,36 @@ class WebViewer {
   }
   int focused() const { return focused_; }
 
-  void setK(int k) { renderer_->settings().blend.k = std::max(1, k); dirty_ = true; }
-  void setOcclusion(bool on) { renderer_->settings().blend.occlusion = on; dirty_ = true; }
-  void setDepthMapsPerFrame(int n) { renderer_->settings().depthMapsPerFrame = std::max(1, n); dirty_ = true; }
   void setStepBack(double d) { focus_.stepBack = d; }
-  // The live switches and debug views of the desktop viewer (docs/viewer.md).
-  void setMasks(bool on) { renderer_->settings().blend.masks = on; dirty_ = true; }
-  void setLensDistortion(bool on) { renderer_->settings().layers.lensDistortion = on; dirty_ = true; }
-  // "terrain", "buildings" or "mesh".
-  void setLayer(const std::string& layer, bool on) {
-    render::LayerSettings& l = renderer_->settings().layers;
-    (layer == "terrain" ? l.terrain : layer == "buildings" ? l.buildings : l.mesh) = on;
-    dirty_ = true;
-  }
-  // The point pass (render/renderer.h PointSettings); no effect on a scene without points.
   bool hasPoints() const { return scene_ && !scene_->points.empty(); }
-  void setPoints(bool on) { renderer_->settings().points.enabled = on && hasPoints(); dirty_ = true; }
-  void setHideTransient(bool on) { renderer_->settings().points.hideTransient = on; dirty_ = true; }
-  // "auto", "class", "epsilon" or "none" (the `--point-filter` values).
-  void setPointFilter(const std::string& filter) {
-    renderer_->settings().points.filter = filter == "class"     ? render::PointFilter::Classification
-                                          : filter == "epsilon" ? render::PointFilter::Epsilon
-                                          : filter == "none"    ? render::PointFilter::None
-                                                                : render::PointFilter::Auto;
-    dirty_ = true;
+
+  // Any render setting by its name and text, as on the command line (render/settings_schema.h:
+  // "k" "4", "point-filter" "epsilon", "terrain" "false"); one read when the renderer is made
+  // makes a new one. Before load(), the settings the renderer starts with. Returns "" or the error
+  // (the option, the text and what was expected).
+  std::string setSetting(const std::string& name, const std::string& text) {
+    try {
+      render::setFromText(settings_, name, text);
+      pointsSet_ |= name == "points";
+      if (!renderer_) return "";
+      const render::Setting& s = render::setting(name);
+      if (s.apply == render::SettingApply::Live) {
+        s.set(renderer_->settings(), s.get(rendererSettings()));
+      } else {
+        render::RenderSettings next = rendererSettings();
+        next.debug.photo = renderer_->settings().debug.photo;
+        renderer_.reset();
+        renderer_ = std::make_unique<render::Renderer>(*scene_, next, diag_);
+      }
+      dirty_ = true;
+      return "";
+    } catch (const std::exception& e) {
+      return e.what();
+    }
   }
-  void setFrusta(bool on) { renderer_->settings().debug.frusta = on; dirty_ = true; }
-  // "picture", "count", "weight" or "depth" (the last two of the focused photograph).
-  void setDebugView(const std::string& view) {
-    renderer_->settings().debug.view = view == "count"    ? render::DebugView::Counts
-                                       : view == "weight" ? render::DebugView::Weight
-                                       : view == "depth"  ? render::DebugView::DepthMap
-                                                          : render::DebugView::None;
-    dirty_ = true;
-  }
+  // The settings schema with the current values (render::settingsJson), from which the page
+  // builds its controls.
+  std::string settingsSchema() const { return render::settingsJson(settings_); }
 
   // Renders a progressive frame into the canvas when something changed (or `force`); returns
   // false when nothing was drawn. `timed`: waits for the GPU (a 1-pixel read-back: glFinish does
@@ -310,6 +300,27 @@ class WebViewer {
   }
 
  private:
+  // settings_ as the renderer takes them here: no threads in the browser, the colour presented
+  // from the GPU, and the photographs that have not arrived left out.
+  render::RenderSettings rendererSettings() const {
+    render::RenderSettings s = settings_;
+    s.decodeThreads = 0;
+    s.readBackColour = false;
+    for (size_t i = 0; scene_ && i < scene_->photos.size(); ++i)
+      if (!arrivedPhoto_[i]) s.blend.exclude.push_back(scene_->photos[i].camera.id);
+    return s;
+  }
+  // The browser's defaults where they differ from the native ones: smaller slices and budgets
+  // (a tab's memory); decoding on the render thread.
+  static render::RenderSettings webDefaults() {
+    render::RenderSettings s;
+    s.maxSliceSize = 1024;
+    s.memoryBudgetBytes = std::size_t(384) << 20;
+    s.decodeMemoryBytes = std::size_t(96) << 20;
+    s.decodeThreads = 0;
+    return s;
+  }
+
   std::string setCameraFitted(const Camera& c, int width, int height) {
     Camera fitted;
     try {
@@ -327,6 +338,9 @@ class WebViewer {
   std::string error_;
   Diagnostics diag_;
   std::unique_ptr<Scene> scene_;
+  render::RenderSettings settings_ = webDefaults();  // as set by the page (exclusions apart)
+  bool pointsSet_ = false;                            // the page set "points" before load
+  std::vector<bool> arrivedPhoto_;
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<gpu::Presenter> presenter_;
   std::unique_ptr<Navigator> nav_;
@@ -370,19 +384,10 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("focusPhoto", &WebViewer::focusPhoto)
       .function("stepPhoto", &WebViewer::stepPhoto)
       .function("focused", &WebViewer::focused)
-      .function("setK", &WebViewer::setK)
-      .function("setOcclusion", &WebViewer::setOcclusion)
-      .function("setDepthMapsPerFrame", &WebViewer::setDepthMapsPerFrame)
       .function("setStepBack", &WebViewer::setStepBack)
-      .function("setMasks", &WebViewer::setMasks)
-      .function("setLensDistortion", &WebViewer::setLensDistortion)
-      .function("setLayer", &WebViewer::setLayer)
       .function("hasPoints", &WebViewer::hasPoints)
-      .function("setPoints", &WebViewer::setPoints)
-      .function("setHideTransient", &WebViewer::setHideTransient)
-      .function("setPointFilter", &WebViewer::setPointFilter)
-      .function("setFrusta", &WebViewer::setFrusta)
-      .function("setDebugView", &WebViewer::setDebugView)
+      .function("setSetting", &WebViewer::setSetting)
+      .function("settingsSchema", &WebViewer::settingsSchema)
       .function("frame", &WebViewer::frame)
       .function("status", &WebViewer::status)
       .function("camera", &WebViewer::camera);

@@ -5,6 +5,7 @@
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
 #include "hv/app/render_command.h"
+#include "hv/app/settings_command.h"
 #include "hv/app/view_command.h"
 #include "hv/app/web_export_command.h"
 
@@ -25,6 +26,7 @@ void registerCommands(CLI::App& app) {
   addDemoCommand(app, g_exit);
   addCamerasCommand(app, g_exit);
   addWebExportCommand(app, g_exit);
+  addSettingsCommand(app, g_exit);
 }
 
 int exitCode() { return g_exit; }

@@ -1,4 +1,4 @@
-// The subcommands of the histoview executable (render, eval, info, fly, view, demo, cameras, web-export).
+// The subcommands of the histoview executable (render, eval, info, fly, view, demo, cameras, web-export, settings).
 #pragma once
 
 namespace CLI {

@@ -2,6 +2,7 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/render/settings_schema.h"
 #include "hv/util/log.h"
 
 #include <CLI/CLI.hpp>
@@ -30,16 +31,6 @@ std::optional<std::pair<std::string, std::string>> splitDebug(const std::string&
   return std::pair<std::string, std::string>{kind, text.substr(colon + 1)};
 }
 
-// Rejects a malformed date while the command line is parsed, before the scene loads.
-CLI::Validator isoDate() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        if (parseDate(text)) return "";
-        return "expected an ISO 8601 date (" + std::string(kDateForms) + "), got '" + text + "'";
-      },
-      "DATE");
-}
-
 }  // namespace
 
 void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body) {
@@ -53,6 +44,34 @@ void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body) {
   });
 }
 
+namespace {
+
+// CLI11 checks a value with the schema's own parser, so the message is the one every surface
+// gives (the option's name is prefixed by CLI11 itself).
+CLI::Validator settingValue(const render::Setting& setting) {
+  return CLI::Validator(
+      [&setting](std::string& text) -> std::string {
+        // A list option is checked item by item (the delimiter split it): each as a one-item list.
+        try {
+          render::parseSettingValue(setting, text);
+          return "";
+        } catch (const std::invalid_argument& e) {
+          const std::string message = e.what(), prefix = "--" + setting.name + ": ";
+          return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+        }
+      },
+      "");
+}
+
+std::string optionHelp(const render::Setting& s) {
+  std::string help = s.help;
+  if (!s.unit.empty()) help += " (" + s.unit + ")";
+  if (s.apply == render::SettingApply::Reload) help += "; read when the renderer is made";
+  return help;
+}
+
+}  // namespace
+
 void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
   cmd.add_option("scene", o.scenePath, "scene.json")->required()->check(CLI::ExistingFile);
   if (withViews)
@@ -60,70 +79,48 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
         ->required()
         ->check(CLI::ExistingFile);
   cmd.add_option("--size", o.size, "output size WxH (intrinsics scaled uniformly; default: each view's own)");
-  cmd.add_option("--k", o.k, "images blended per pixel")->check(CLI::PositiveNumber);
-  cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)");
-  cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated)")->delimiter(',');
-  cmd.add_option("--depth-size", o.depthSize, "depth-map resolution")->check(CLI::Range(16, 16384));
-  cmd.add_option("--binding", o.binding,
-                 "array (texture arrays, default) or naive (a sampler2D per image and per depth map: the baseline)")
-      ->check(CLI::IsMember({"array", "naive"}));
-  cmd.add_option("--depth-maps-per-frame", o.depthMapsPerFrame,
-                 "progressive frames: depth maps rendered per frame, nearest camera first (Dmax)")
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--depth-budget-ms", o.depthBudgetMs,
-                 "progressive frames: render depth maps until this many ms are spent (at least one)")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--background", o.background, "background colour R,G,B (0-255)");
-  cmd.add_option("--background-distance", o.backgroundDistance,
-                 "project photographs onto a sphere of this radius (scene units) around the view where there "
-                 "is no geometry, as iTowns' backgroundDistance; 0: never; default: only in a scene without "
-                 "geometry (radius 100)");
-  cmd.add_option("--from", o.from,
-                 "only photographs dated on or after DATE (ISO 8601; a partial date such as 1905 is the "
-                 "interval it names, and matches when the intervals overlap)")
-      ->check(isoDate());
-  cmd.add_option("--to", o.to, "only photographs dated on or before DATE (ISO 8601, as --from)")
-      ->check(isoDate());
-  cmd.add_flag("--dated-only", o.datedOnly, "leave out undated photographs (kept by default)");
-  cmd.add_flag("--points", o.points, "draw the scene's point cloud as textured sprites");
-  cmd.add_option("--point-budget", o.pointBudget, "points drawn per frame (and per depth map)")
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--point-radius", o.pointRadius,
-                 "sprite radius, scene units (default: 0.75 x each chunk's point spacing)");
-  cmd.add_option("--sprite-form", o.spriteForm,
-                 "nprime (one vec3 varying, 2022) or mat3 (a mat3 varying per image, 2016; K capped by the varyings)")
-      ->check(CLI::IsMember({"nprime", "mat3"}));
-  cmd.add_option("--point-filter", o.pointFilter,
-                 "auto (class when the cloud is classified, else epsilon), class, epsilon or none")
-      ->check(CLI::IsMember({"auto", "class", "epsilon", "none"}));
-  cmd.add_option("--kept-classes", o.keptClasses, "non-transient ASPRS classes, textured (default 2,6,9,10,11,17)")
-      ->delimiter(',');
-  cmd.add_flag("--no-points-in-depth-maps", o.noPointsInDepthMaps,
-               "class filter: depth maps hold the model only (default: also the kept points)");
-  cmd.add_flag("--hide-transient", o.hideTransient, "do not draw transient points (default: their own colour)");
-  cmd.add_option("--epsilon", o.epsilon,
-                 "epsilon filter: a point is textured by an image when within this of the model's depth there, "
-                 "scene units (default: 2e-3 of the scene extent)");
-  cmd.add_option("--mesh-offset", o.meshOffset,
-                 "hybrid: the mesh pushed back by this along its normal behind the points, scene units "
-                 "(default: 6e-4 of the scene extent)")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--point-color", o.pointColor, "untextured points: auto, rgb, intensity or class")
-      ->check(CLI::IsMember({"auto", "rgb", "intensity", "class"}));
-  cmd.add_flag("--no-eye-dome", o.noEyeDome, "no eye-dome lighting on untextured points");
-  cmd.add_flag("--no-masks", o.noMasks, "ignore the photographs' masks");
-  cmd.add_flag("--no-distortion", o.noDistortion,
-               "project the photographs as pinhole cameras, ignoring their lens distortion (to see what the "
-               "correction does)");
-  cmd.add_option("--hide", o.hide, "geometry left out of the view and of the depth maps: terrain, buildings, mesh")
+  for (const render::Setting& s : render::settingsSchema()) {
+    const std::string name = s.name, def = render::defaultText(s);
+    CLI::Option* opt = nullptr;
+    switch (s.type) {
+      case render::SettingType::Bool:
+        // --NAME sets it, --no-NAME clears it (CLI11 counts a negated flag as -1).
+        opt = cmd.add_flag_function(
+            "--" + name + ",!--no-" + name,
+            [&o, name](std::int64_t count) { o.settings[name] = count > 0 ? "true" : "false"; },
+            optionHelp(s) + (def == "true" ? " (default on; --no-" + name + ": off)" : ""));
+        break;
+      case render::SettingType::IntList:
+      case render::SettingType::TextList:
+        opt = cmd.add_option_function<std::vector<std::string>>(
+                     "--" + name,
+                     [&o, name](const std::vector<std::string>& items) {
+                       std::string text;
+                       for (const std::string& item : items) text += (text.empty() ? "" : ",") + item;
+                       o.settings[name] = text;
+                     },
+                     optionHelp(s) + ", comma separated")
+                  ->delimiter(',');
+        break;
+      default:
+        opt = cmd.add_option_function<std::string>(
+            "--" + name, [&o, name](const std::string& text) { o.settings[name] = text; }, optionHelp(s));
+        break;
+    }
+    if (s.type != render::SettingType::Bool) {
+      opt->check(settingValue(s));
+      opt->type_name(s.type == render::SettingType::Enum ? "{" + CLI::detail::join(s.spellings, ",") + "}"
+                                                         : std::string(render::typeName(s.type)));
+      if (!def.empty()) opt->default_str(def);
+    }
+    opt->group("Render settings (" + s.group + ")");
+  }
+  cmd.add_option("--hide", o.hide,
+                 "geometry left out of the view and of the depth maps: terrain, buildings, mesh (as --no-terrain, "
+                 "--no-buildings, --no-mesh)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"terrain", "buildings", "mesh"}));
-  cmd.add_flag("--frusta", o.frusta,
-               "draw the photographs' frusta over the picture (the frame's images yellow, the --debug "
-               "photograph cyan)");
-  cmd.add_option("--frustum-depth", o.frustumDepth, "frustum length along the camera axis, scene units "
-                 "(default: the camera spacing)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::IsMember({"terrain", "buildings", "mesh"}))
+      ->group("Render settings (" + render::setting("terrain").group + ")");
 }
 
 void applyDebugOption(const std::string& text, const Scene& scene, render::DebugSettings& debug) {
@@ -154,20 +151,10 @@ CLI::Validator debugValue() {
 }
 
 std::optional<DateInterval> timeWindow(const std::string& from, const std::string& to) {
-  if (from.empty() && to.empty()) return std::nullopt;
-  auto read = [](const std::string& option, const std::string& text) {
-    const auto d = parseDate(text);
-    if (!d)
-      throw std::invalid_argument(option + ": expected an ISO 8601 date (" + kDateForms + "), got '" + text +
-                                  "'");
-    return *d;
-  };
-  DateInterval w;  // open on both sides
-  if (!from.empty()) w.first = read("--from", from).first;
-  if (!to.empty()) w.last = read("--to", to).last;
-  if (w.first > w.last)
-    throw std::invalid_argument("--from " + from + " is after --to " + to + ": the time window is empty");
-  return w;
+  render::RenderSettings s;
+  render::setFromText(s, "from", from);
+  render::setFromText(s, "to", to);
+  return s.blend.window;
 }
 
 void checkPhotoDates(const Scene& scene, Diagnostics& diag) {
@@ -187,17 +174,6 @@ glm::ivec2 parseSize(const std::string& s) {
   return {w, h};
 }
 
-glm::dvec3 parseColour(const std::string& s) {
-  std::istringstream in(s);
-  glm::dvec3 c;
-  char comma = 0;
-  if (!(in >> c.r >> comma >> c.g) || comma != ',' || !(in >> comma >> c.b) || comma != ',')
-    throw std::invalid_argument("--background: expected R,G,B in 0-255, got '" + s + "'");
-  for (int i = 0; i < 3; ++i)
-    if (c[i] < 0 || c[i] > 255) throw std::invalid_argument("--background: components must be in 0-255");
-  return c / 255.0;
-}
-
 Camera resizeView(const Camera& view, const std::string& size) {
   if (size.empty()) return view;
   const glm::ivec2 wh = parseSize(size);
@@ -206,45 +182,15 @@ Camera resizeView(const Camera& view, const std::string& size) {
 
 render::RenderSettings renderSettings(const ViewOptions& o) {
   render::RenderSettings s;
-  s.blend.k = o.k;
-  s.blend.sigma = o.sigma;
-  s.blend.exclude = o.exclude;
-  s.depthSize = o.depthSize;
-  s.binding = o.binding == "naive" ? render::Binding::Naive : render::Binding::Array;
-  s.depthMapsPerFrame = o.depthMapsPerFrame;
-  s.depthBudgetMs = o.depthBudgetMs;
-  s.background = parseColour(o.background);
-  s.backgroundSphere = o.backgroundDistance;
-  s.blend.window = timeWindow(o.from, o.to);
-  s.blend.datedOnly = o.datedOnly;
-  s.points.enabled = o.points;
-  s.points.budget = o.pointBudget;
-  s.points.radius = o.pointRadius;
-  s.points.form = o.spriteForm == "mat3" ? render::SpriteForm::Mat3 : render::SpriteForm::PlaneVector;
-  s.points.filter = o.pointFilter == "class"     ? render::PointFilter::Classification
-                    : o.pointFilter == "epsilon" ? render::PointFilter::Epsilon
-                    : o.pointFilter == "none"    ? render::PointFilter::None
-                                                 : render::PointFilter::Auto;
-  s.points.keptClasses = o.keptClasses;
-  s.points.keptInDepthMaps = !o.noPointsInDepthMaps;
-  s.points.hideTransient = o.hideTransient;
-  s.points.epsilon = o.epsilon;
-  s.points.meshOffset = o.meshOffset;
-  s.points.color = o.pointColor == "rgb"         ? PointColorMode::Rgb
-                   : o.pointColor == "intensity" ? PointColorMode::Intensity
-                   : o.pointColor == "class"     ? PointColorMode::Classification
-                                                 : PointColorMode::Auto;
-  s.points.eyeDome = !o.noEyeDome;
-  s.blend.masks = !o.noMasks;
-  s.layers.lensDistortion = !o.noDistortion;
+  // In the schema's order (not the command line's): --from is applied before --to.
+  for (const render::Setting& setting : render::settingsSchema())
+    if (const auto it = o.settings.find(setting.name); it != o.settings.end())
+      setting.set(s, render::parseSettingValue(setting, it->second));
   for (const std::string& layer : o.hide) {
-    if (layer == "terrain") s.layers.terrain = false;
-    else if (layer == "buildings") s.layers.buildings = false;
-    else if (layer == "mesh") s.layers.mesh = false;
-    else throw std::invalid_argument("--hide: expected terrain, buildings or mesh, got '" + layer + "'");
+    if (layer != "terrain" && layer != "buildings" && layer != "mesh")
+      throw std::invalid_argument("--hide: expected terrain, buildings or mesh, got '" + layer + "'");
+    render::setFromText(s, layer, "false");
   }
-  s.debug.frusta = o.frusta;
-  s.debug.frustumDepth = o.frustumDepth;
   return s;
 }
 

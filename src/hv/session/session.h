@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,50 +29,24 @@ namespace hv::app {
 // printed as "error: ..." and gives exit code 2 (bad input never crashes the program).
 void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body);
 
-// Options shared by render, eval and fly.
+// Options shared by render, eval, fly and view.
 struct ViewOptions {
   std::string scenePath;
   std::string viewsPath;            // empty: no views file (fly reads a path instead)
   std::string size;                 // "WxH", empty: each view's own
-  int k = 8;
-  double sigma = -1.0;
-  std::vector<std::string> exclude;
-  int depthSize = 1024;
-  std::string binding = "array";   // array | naive (the baseline: a sampler2D per image)
-  int depthMapsPerFrame = 4;       // progressive frames (fly --progressive)
-  double depthBudgetMs = 0.0;      // progressive frames: time budget for depth maps instead
-  std::string background = "0,0,0";
-  double backgroundDistance = -1.0;  // render::RenderSettings::backgroundSphere
-  std::string from, to;             // time window, ISO 8601 dates; empty: open on that side
-  bool datedOnly = false;
-  // The point pass (issue 4).
-  bool points = false;
-  std::uint64_t pointBudget = 2'000'000;
-  double pointRadius = -1.0;
-  std::string spriteForm = "nprime";     // nprime | mat3
-  std::string pointFilter = "auto";      // auto | class | epsilon | none
-  std::vector<int> keptClasses{2, 6, 9, 10, 11, 17};
-  bool noPointsInDepthMaps = false;
-  bool hideTransient = false;
-  double epsilon = -1.0;
-  double meshOffset = -1.0;  // < 0: the renderer's default
-  std::string pointColor = "auto";       // auto | rgb | intensity | class
-  bool noEyeDome = false;
-  // Live switches of the viewer, also on the command line (render::LayerSettings, DebugSettings).
-  bool noMasks = false;
-  bool noDistortion = false;             // photographs projected as pinholes
-  std::vector<std::string> hide;         // terrain, buildings, mesh
-  bool frusta = false;
-  double frustumDepth = -1.0;
-  std::string debug;                     // count | weight:ID | depth:ID (empty: none)
+  // The render settings given on the command line, as text by setting name
+  // (render/settings_schema.h); renderSettings() applies them through the schema.
+  std::map<std::string, std::string> settings;
+  std::vector<std::string> hide;    // --hide terrain,buildings,mesh: --no-terrain ... in one option
+  std::string debug;                // count | weight:ID | depth:ID (empty: none)
 };
-// `withViews`: the required --views option (render, eval); fly has --path instead.
+// Registers the scene argument, --size, and one option per render setting of the schema (a flag
+// pair --NAME / --no-NAME for a boolean), checked while the command line is parsed.
+// `withViews`: the required --views option (render); the other commands declare their own.
 void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews = true);
 
 // "640x480" -> (640, 480); throws std::invalid_argument with the expected form.
 glm::ivec2 parseSize(const std::string& s);
-// "R,G,B" (0-255) -> [0, 1]; throws std::invalid_argument.
-glm::dvec3 parseColour(const std::string& s);
 
 // The --from/--to window: [first day of --from, last day of --to], either end open when absent;
 // nullopt when both are. Throws std::invalid_argument naming the option and the text for a date
@@ -99,6 +74,8 @@ struct Session {
 // before anything is loaded.
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
                                      const std::function<std::unique_ptr<gpu::Context>()>& makeContext = {});
+// The settings the command line asked for: a default RenderSettings with o.settings (and --hide)
+// applied through the schema. Throws std::invalid_argument naming the option and the value.
 render::RenderSettings renderSettings(const ViewOptions& o);
 
 // --debug: "count", "weight:ID" or "depth:ID" (ID a photograph of the scene) into `debug` (view

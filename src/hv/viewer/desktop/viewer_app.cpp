@@ -7,8 +7,10 @@
 #include "hv/gpu/present.h"
 #include "hv/image/image.h"
 #include "hv/io/camera_path_json.h"
-#include "hv/scene/native/raycast.h"
 #include "hv/gpu/platform/glfw/glfw_window.h"
+#include "hv/scene/native/raycast.h"
+#include "hv/viewer/desktop/debug_panel.h"
+#include "hv/viewer/desktop/settings_panel.h"
 #include "hv/viewer/navigation.h"
 #include "hv/image/native/png_write.h"
 
@@ -61,15 +63,11 @@ Camera reframe(const Camera& c, glm::ivec2 size) {
 // renderer) or per frame.
 struct PanelState {
   char search[128] = "";
-  char from[32] = "", to[32] = "";
-  std::string windowError;
-  int depthSizeChoice = 2;  // index into kDepthSizes
   char screenshotName[256] = "histoview-screenshot.png";
   char pathName[256] = "histoview-path.json";
   bool screenshotWithUi = false;
   std::string message;
 };
-constexpr int kDepthSizes[] = {256, 512, 1024, 2048, 4096};
 
 class Viewer {
  public:
@@ -104,10 +102,6 @@ class Viewer {
     std::vector<glm::dvec3> centres;
     for (const auto& p : scene.photos) centres.push_back(p.camera.center);
     order_ = streetOrder(centres);
-    for (size_t i = 0; i < std::size(kDepthSizes); ++i)
-      if (kDepthSizes[i] == o_.view.depthSize) panel_.depthSizeChoice = int(i);
-    std::snprintf(panel_.from, sizeof panel_.from, "%s", o_.view.from.c_str());
-    std::snprintf(panel_.to, sizeof panel_.to, "%s", o_.view.to.c_str());
     showPanel_ = !o_.hidePanel;
 
     nav_->setCamera(startCamera(window_->framebufferSize()));
@@ -249,19 +243,18 @@ class Viewer {
     recorded_.push_back(k);
   }
 
-  void rebuildRenderer() {
-    render::RenderSettings s = renderer_->settings();
-    s.depthSize = kDepthSizes[panel_.depthSizeChoice];
+  // A setting read at construction changed (settings_panel.h): a new renderer with `s`.
+  void rebuildRenderer(const render::RenderSettings& s) {
     session_->renderer.reset();
     Diagnostics diag;
     session_->renderer = std::make_unique<render::Renderer>(session_->scene, s, diag);
+    for (const auto& e : diag.errors) panel_.message = e;
     renderer_ = session_->renderer.get();
     settingsChanged_ = true;
   }
 
   void drawPanel() {
     render::RenderSettings& rs = renderer_->settings();
-    bool rebuild = false;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSizeConstraints(ImVec2(260, 80), ImVec2(600, std::max(120.0f, ImGui::GetIO().DisplaySize.y - 16)));
@@ -321,60 +314,30 @@ class Viewer {
       if (ImGui::SliderFloat("zoom out", &zoom, 0.3f, 1.0f, "%.2f")) focusSettings_.zoomOut = zoom;
     }
 
-    if (ImGui::CollapsingHeader("Rendering", ImGuiTreeNodeFlags_DefaultOpen)) {
-      bool changed = false;
-      changed |= ImGui::SliderInt("K", &rs.blend.k, 1, std::max(1, renderer_->sliceCount()));
-      float sigma = float(rs.blend.sigma > 0 ? rs.blend.sigma : renderer_->lastPlan().sigma);
-      if (ImGui::SliderFloat("sigma", &sigma, 0.01f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
-        rs.blend.sigma = sigma;
-        changed = true;
+    // The render settings, a section per group of the schema (render/settings_schema.h).
+    const Scene& scene = session_->scene;
+    SettingsPanel::Result edits;
+    auto lacking = [&](const render::Setting& st) {
+      return (st.name == "terrain" && scene.terrain.triangles.empty()) ||
+             (st.name == "buildings" && scene.buildings.triangles.empty()) ||
+             (st.name == "mesh" && scene.mesh.triangles.empty());
+    };
+    for (const std::string& group : render::settingGroups()) {
+      ImGuiTreeNodeFlags flags = group == "Blending" ? ImGuiTreeNodeFlags_DefaultOpen : 0;
+      if (group == "Points") {
+        if (scene.points.empty()) continue;
+        if (rs.points.enabled) ImGui::SetNextItemOpen(true, ImGuiCond_Once);  // --points asked for them
       }
-      int method = rs.blend.method == ibr::BlendMethod::Nearest;
-      if (ImGui::Combo("method", &method, "blend\0nearest\0")) {
-        rs.blend.method = method ? ibr::BlendMethod::Nearest : ibr::BlendMethod::Blend;
-        changed = true;
-      }
-      changed |= ImGui::Checkbox("occlusion (depth maps)", &rs.blend.occlusion);
-      changed |= ImGui::SliderInt("depth maps / frame", &rs.depthMapsPerFrame, 1, 64);
-      float budget = float(rs.depthBudgetMs);
-      if (ImGui::SliderFloat("depth budget ms", &budget, 0.0f, 200.0f, budget > 0 ? "%.0f" : "off")) {
-        rs.depthBudgetMs = budget;
-        changed = true;
-      }
-      // Recreating the renderer waits for the end of the panel: `rs` refers to the current one.
-      if (ImGui::Combo("depth-map size", &panel_.depthSizeChoice, "256\0" "512\0" "1024\0" "2048\0" "4096\0"))
-        rebuild = true;
-      float bg[3] = {float(rs.background.r), float(rs.background.g), float(rs.background.b)};
-      if (ImGui::ColorEdit3("fallback colour", bg)) {
-        rs.background = {bg[0], bg[1], bg[2]};
-        changed = true;
-      }
-      ImGui::SetNextItemWidth(90);
-      ImGui::InputTextWithHint("##from", "from", panel_.from, sizeof panel_.from);
-      ImGui::SameLine();
-      ImGui::SetNextItemWidth(90);
-      ImGui::InputTextWithHint("##to", "to", panel_.to, sizeof panel_.to);
-      ImGui::SameLine();
-      if (ImGui::Button("time window")) {
-        try {
-          rs.blend.window = app::timeWindow(panel_.from, panel_.to);
-          panel_.windowError.clear();
-          changed = true;
-        } catch (const std::exception& e) {
-          panel_.windowError = e.what();
-        }
-      }
-      changed |= ImGui::Checkbox("dated photographs only", &rs.blend.datedOnly);
-      if (!panel_.windowError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", panel_.windowError.c_str());
-      settingsChanged_ |= changed;
-      drawLayerSwitches(rs);
+      if (group == "Debug" && (rs.debug.view != render::DebugView::None || rs.debug.frusta))
+        ImGui::SetNextItemOpen(true, ImGuiCond_Once);
+      if (!ImGui::CollapsingHeader(group.c_str(), flags)) continue;
+      settingsPanel_.drawGroup(group, rs, edits, lacking);
+      if (group == "Points")
+        ImGui::Text("%llu points drawn", static_cast<unsigned long long>(renderer_->stats().pointsDrawn));
+      if (group == "Debug") settingsChanged_ |= drawDebugState(*renderer_, scene, rs.debug);
     }
-    // Sections the command line asked for (--points, --debug, --frusta) start open.
-    if (rs.points.enabled) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
-    if (!session_->scene.points.empty() && ImGui::CollapsingHeader("Points")) drawPointControls(rs.points);
-
-    if (rs.debug.view != render::DebugView::None || rs.debug.frusta) ImGui::SetNextItemOpen(true, ImGuiCond_Once);
-    if (ImGui::CollapsingHeader("Debug")) drawDebugPanel(rs.debug);
+    settingsChanged_ |= edits.changed;
+    if (!edits.error.empty()) panel_.message = edits.error;
 
     if (ImGui::CollapsingHeader("Capture")) {
       ImGui::InputText("png", panel_.screenshotName, sizeof panel_.screenshotName);
@@ -389,183 +352,8 @@ class Viewer {
       }
     }
     ImGui::End();
-    if (rebuild) rebuildRenderer();
-  }
-
-  // Masks, lens distortion and the geometry layers (render::LayerSettings): what each contributes.
-  // Masks decode the photographs again; the others redraw the depth maps.
-  void drawLayerSwitches(render::RenderSettings& rs) {
-    const Scene& scene = session_->scene;
-    bool changed = false;
-    ImGui::Separator();
-    changed |= ImGui::Checkbox("masks", &rs.blend.masks);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("off: the photographs are decoded again without their masks");
-    ImGui::SameLine();
-    changed |= ImGui::Checkbox("lens distortion", &rs.layers.lensDistortion);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("off: the photographs are projected as pinholes (no correction)");
-    auto layer = [&](const char* name, bool& on, const Mesh& mesh) {
-      ImGui::BeginDisabled(mesh.triangles.empty());
-      changed |= ImGui::Checkbox(name, &on);
-      ImGui::EndDisabled();
-    };
-    layer("terrain", rs.layers.terrain, scene.terrain);
-    ImGui::SameLine();
-    layer("buildings", rs.layers.buildings, scene.buildings);
-    ImGui::SameLine();
-    layer("mesh", rs.layers.mesh, scene.mesh);
-    settingsChanged_ |= changed;
-  }
-
-  // The point pass (render::PointSettings) for a scene with points; each applies from the next
-  // frame (the sprite form needs a new renderer, and is left to the command line).
-  void drawPointControls(render::PointSettings& ps) {
-    bool changed = false;
-    changed |= ImGui::Checkbox("draw the points", &ps.enabled);
-    int filter = int(ps.filter);
-    if (ImGui::Combo("filter", &filter, "auto\0classification\0epsilon\0none\0")) {
-      ps.filter = render::PointFilter(filter);
-      changed = true;
-    }
-    changed |= autoOrValue("epsilon", ps.epsilon, 5.0f, "%.3f");
-    changed |= ImGui::Checkbox("hide transient points", &ps.hideTransient);
-    changed |= autoOrValue("mesh offset", ps.meshOffset, 5.0f, "%.3f m");
-    int budgetK = int(ps.budget / 1000);
-    if (ImGui::SliderInt("budget (thousands)", &budgetK, 10, 20000, "%d", ImGuiSliderFlags_Logarithmic)) {
-      ps.budget = std::uint64_t(std::max(1, budgetK)) * 1000;
-      changed = true;
-    }
-    float scale = float(ps.radiusScale);
-    if (ImGui::SliderFloat("radius scale", &scale, 0.1f, 4.0f, "%.2f")) {
-      ps.radiusScale = scale;
-      changed = true;
-    }
-    ImGui::Text("%llu points drawn", static_cast<unsigned long long>(renderer_->stats().pointsDrawn));
-    settingsChanged_ |= changed;
-  }
-
-  // A distance whose default (< 0) the renderer derives from the scene's extent: "auto", or a
-  // value in (0, max] scene units.
-  static bool autoOrValue(const char* label, double& value, float max, const char* format) {
-    bool isAuto = value < 0.0, changed = false;
-    ImGui::PushID(label);
-    if (ImGui::Checkbox("auto", &isAuto)) {
-      value = isAuto ? -1.0 : 0.01 * max;
-      changed = true;
-    }
-    ImGui::SameLine();
-    ImGui::BeginDisabled(isAuto);
-    float v = isAuto ? 0.0f : float(value);
-    if (ImGui::SliderFloat(label, &v, 0.0f, max, isAuto ? "auto" : format, ImGuiSliderFlags_Logarithmic)) {
-      value = v;
-      changed = true;
-    }
-    ImGui::EndDisabled();
-    ImGui::PopID();
-    return changed;
-  }
-
-  // Debug views (render::DebugSettings), the chosen photograph's state, and the frame's images with
-  // their residency.
-  void drawDebugPanel(render::DebugSettings& debug) {
-    const Scene& scene = session_->scene;
-    const render::RenderStats& st = renderer_->stats();
-    int view = int(debug.view);
-    if (ImGui::Combo("view", &view, "picture\0contributing images (C)\0weight (chosen photo)\0"
-                                    "depth map (chosen photo)\0")) {
-      debug.view = render::DebugView(view);
-      settingsChanged_ = true;
-    }
-    const bool chosen = debug.photo >= 0 && debug.photo < int(scene.photos.size());
-    const char* id = chosen ? scene.photos[size_t(debug.photo)].camera.id.c_str() : "none";
-    switch (debug.view) {
-      case render::DebugView::Counts:
-        ImGui::TextDisabled("black: none ... yellow: %d images", int(renderer_->lastImageParams().size()));
-        break;
-      case render::DebugView::Weight:
-        ImGui::TextDisabled("share of %s in each pixel: purple 0 ... yellow 1", id);
-        if (chosen && st.debugImage < 0) {
-          const auto& images = renderer_->lastPlan().images;
-          const bool selected = std::any_of(images.begin(), images.end(),
-                                            [&](const ibr::SelectedImage& im) { return im.photo == debug.photo; });
-          ImGui::TextDisabled(selected ? "(%s is waiting: decoding or its depth map)"
-                                       : "(%s is not among this frame's K images)", id);
-        }
-        break;
-      case render::DebugView::DepthMap:
-        if (st.debugSlot < 0)
-          ImGui::TextDisabled("%s: %s", id,
-                              chosen ? photoStateName(renderer_->photoState(debug.photo)) : "choose a photograph");
-        else
-          ImGui::TextDisabled("%s: yellow %.1f ... purple %.1f (depth), black: nothing", id, st.debugDepthNear,
-                              st.debugDepthFar);
-        break;
-      case render::DebugView::None:
-        break;
-    }
-    if (ImGui::Checkbox("frusta (F)", &debug.frusta)) settingsChanged_ = true;
-    if (debug.frusta) {
-      ImGui::SameLine();
-      float depth = float(debug.frustumDepth > 0.0 ? debug.frustumDepth : scene.cameraSpacing());
-      ImGui::SetNextItemWidth(150);
-      if (ImGui::SliderFloat("length", &depth, 0.1f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
-        debug.frustumDepth = depth;
-        settingsChanged_ = true;
-      }
-      ImGui::TextDisabled("yellow: this frame's images, cyan: the chosen photo");
-    }
-
-    const auto& plan = renderer_->lastPlan();
-    const int ready = int(plan.images.size()) - st.imagesWaiting;
-    const std::string progress =
-        std::to_string(ready) + " / " + std::to_string(plan.images.size()) + " images in the frame";
-    ImGui::ProgressBar(plan.images.empty() ? 1.0f : float(ready) / float(plan.images.size()), ImVec2(-1, 0),
-                       progress.c_str());
-    ImGui::Text("waiting: %d decoding, %d depth maps; %d resident of %d slots", st.decodesWaiting, st.depthMapsWaiting,
-                st.residentImages, renderer_->sliceCount());
-    ImGui::Text("%d photographs decoded, %d depth maps rendered (%d this frame)", st.imagesLoaded,
-                st.depthMapsRendered, st.depthMapsThisFrame);
-    ImGui::Text("tile lists: mean %.1f, max %d images", st.meanTileList, st.maxTileList);
-    if (ImGui::BeginTable("images", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY,
-                          ImVec2(0, 160))) {
-      ImGui::TableSetupColumn("photo");
-      ImGui::TableSetupColumn("slot");
-      ImGui::TableSetupColumn("distance");
-      ImGui::TableSetupColumn("weight");
-      ImGui::TableSetupColumn("state");
-      ImGui::TableHeadersRow();
-      for (const auto& im : plan.images) {
-        ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        // A click chooses the photograph for the debug views without moving the camera.
-        if (ImGui::Selectable(scene.photos[size_t(im.photo)].camera.id.c_str(), debug.photo == im.photo,
-                              ImGuiSelectableFlags_SpanAllColumns)) {
-          debug.photo = im.photo;
-          settingsChanged_ = true;
-        }
-        ImGui::TableNextColumn();
-        const int slot = renderer_->slotOf(im.photo);
-        if (slot >= 0) ImGui::Text("%d", slot);
-        else ImGui::TextDisabled("-");
-        ImGui::TableNextColumn();
-        ImGui::Text("%.1f", im.distance);
-        ImGui::TableNextColumn();
-        ImGui::Text("%.4f", im.weight);
-        ImGui::TableNextColumn();
-        ImGui::TextUnformatted(photoStateName(renderer_->photoState(im.photo)));
-      }
-      ImGui::EndTable();
-    }
-  }
-
-  static const char* photoStateName(render::PhotoState s) {
-    switch (s) {
-      case render::PhotoState::Absent: return "not resident";
-      case render::PhotoState::Decoding: return "decoding";
-      case render::PhotoState::DepthMapPending: return "depth map pending";
-      case render::PhotoState::Ready: return "ready";
-      case render::PhotoState::Broken: return "broken";
-    }
-    return "";
+    // After the panel: `rs` refers to the current renderer's settings.
+    if (edits.rebuild) rebuildRenderer(*edits.rebuild);
   }
 
   void updateThumbnail() {
@@ -732,6 +520,7 @@ class Viewer {
   std::unique_ptr<FocusContextPath> focusPath_;
   Clock::time_point focusStart_;
   PanelState panel_;
+  SettingsPanel settingsPanel_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;
   bool screenshotRequested_ = false;
