@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "hv/demo/demo_internal.h"
+#include "hv/demo/footprint_shapes.h"
 
 namespace hv::demo {
 
@@ -14,6 +15,12 @@ using detail::addBox;
 using detail::addQuad;
 using detail::addSurface;
 using detail::Rng;
+using detail::CellSet;
+using detail::Shape;
+using detail::cellsOf;
+using detail::insideRings;
+using detail::signedArea;
+using detail::traceRings;
 
 const char* materialName(Material m) {
   static constexpr std::array<const char*, size_t(Material::Count)> names = {
@@ -50,104 +57,6 @@ struct Grid {
   glm::dvec2 lo{0.0}, hi{0.0};  // the street grid, world
 };
 
-// Even-odd point in polygon over all rings (outer and holes).
-bool insideRings(const std::vector<std::vector<glm::dvec2>>& rings, glm::dvec2 p) {
-  bool in = false;
-  for (const auto& ring : rings)
-    for (size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-      const glm::dvec2 a = ring[i], b = ring[j];
-      if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) in = !in;
-    }
-  return in;
-}
-
-double signedArea(const std::vector<glm::dvec2>& ring) {
-  double a = 0.0;
-  for (size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
-    a += ring[j].x * ring[i].y - ring[i].x * ring[j].y;
-  return 0.5 * a;
-}
-
-// Footprint shapes on a 3 x 3 cell grid in lot coordinates (u along the street, v into the block;
-// row 0 touches the street). Chosen so that no two cells touch by a corner only (no pinched rings).
-using CellSet = std::array<std::array<bool, 3>, 3>;  // [col][row]
-enum class Shape { Rect, L, LMirror, U, T, NotchCorner, NotchBack, Step, Courtyard, Count };
-
-CellSet cellsOf(Shape s) {
-  CellSet c{};
-  for (auto& col : c) col.fill(true);
-  switch (s) {
-    case Shape::Rect:
-      break;
-    case Shape::L:
-      c[2][1] = c[2][2] = false;
-      break;
-    case Shape::LMirror:
-      c[0][1] = c[0][2] = false;
-      break;
-    case Shape::U:
-      c[1][1] = c[1][2] = false;
-      break;
-    case Shape::T:
-      c[0][1] = c[0][2] = c[2][1] = c[2][2] = false;
-      break;
-    case Shape::NotchCorner:
-      c[2][2] = false;
-      break;
-    case Shape::NotchBack:
-      c[1][2] = false;
-      break;
-    case Shape::Step:
-      c[0][1] = c[0][2] = c[1][2] = false;
-      break;
-    case Shape::Courtyard:
-      c[1][1] = false;
-      break;
-    case Shape::Count:
-      break;
-  }
-  return c;
-}
-
-// Boundary rings of a cell set, as grid-vertex indices, with the inside on the left; collinear
-// vertices removed. Outer rings come out counter-clockwise, holes clockwise (in the grid frame).
-std::vector<std::vector<glm::ivec2>> traceRings(const CellSet& cells) {
-  auto in = [&](int i, int j) { return i >= 0 && j >= 0 && i < 3 && j < 3 && cells[i][j]; };
-  std::map<std::pair<int, int>, glm::ivec2> next;  // start vertex -> end vertex
-  auto edge = [&](glm::ivec2 a, glm::ivec2 b) {
-    if (!next.emplace(std::make_pair(a.x, a.y), b).second)
-      throw std::logic_error("demo city: pinched footprint");
-  };
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      if (!in(i, j)) continue;
-      if (!in(i, j - 1)) edge({i, j}, {i + 1, j});
-      if (!in(i + 1, j)) edge({i + 1, j}, {i + 1, j + 1});
-      if (!in(i, j + 1)) edge({i + 1, j + 1}, {i, j + 1});
-      if (!in(i - 1, j)) edge({i, j + 1}, {i, j});
-    }
-  std::vector<std::vector<glm::ivec2>> rings;
-  while (!next.empty()) {
-    std::vector<glm::ivec2> ring;
-    glm::ivec2 v(next.begin()->first.first, next.begin()->first.second);
-    while (true) {
-      auto it = next.find({v.x, v.y});
-      if (it == next.end()) break;
-      ring.push_back(v);
-      v = it->second;
-      next.erase(it);
-    }
-    std::vector<glm::ivec2> simple;
-    for (size_t k = 0; k < ring.size(); ++k) {
-      const glm::ivec2 prev = ring[(k + ring.size() - 1) % ring.size()], cur = ring[k],
-                       nxt = ring[(k + 1) % ring.size()];
-      const glm::ivec2 d1 = cur - prev, d2 = nxt - cur;
-      if (d1.x * d2.y - d1.y * d2.x != 0) simple.push_back(cur);
-    }
-    rings.push_back(simple);
-  }
-  return rings;
-}
 
 struct Opening {
   double u0, u1, w0, w1;
