@@ -1,4 +1,4 @@
-// Many-images benchmark (issue 3, "Benchmark"): a benchmark, not a test. One run prints
+// Many-images benchmark: a benchmark, not a test. One run prints
 //   1. naive binding (a sampler2D per image and per depth map) against the array binding at T = 8;
 //   2. the array binding at T = 8, 40, 128, 256, 1024 selected images, with and without per-tile
 //      culling, and the ratio (array, culled, T = 256) / (naive, T = 8);
@@ -11,7 +11,7 @@
 // Frames are 1280x720. Timings are compared as ratios against baselines measured in the same
 // process (these shared machines are noisy), with process CPU time beside wall time.
 // Usage: many_images_bench [--keep DIR]   (--keep: generate into DIR and leave the files there)
-// Results and how to read them: docs/performance.md, "Many images (issue 3)".
+// Results and how to read them: docs/performance.md, "Many images".
 
 #include "hv/gpu/context.h"
 #include "hv/gpu/gl.h"
@@ -554,7 +554,7 @@ int run(const fs::path& dir) {
   auto context = hv::gpu::createHeadlessContext();
   const hv::gpu::GlLimits l = hv::gpu::queryLimits();
   const char* lp = std::getenv("LP_NUM_THREADS");
-  std::printf("histoview many-images benchmark (issue 3)\n");
+  std::printf("histoview many-images benchmark\n");
   rule();
   std::printf("  GL            %s | %s | %s\n", l.vendor.c_str(), l.renderer.c_str(), l.version.c_str());
   std::printf("  limits        MAX_ARRAY_TEXTURE_LAYERS %d, MAX_TEXTURE_IMAGE_UNITS %d, MAX_TEXTURE_SIZE %d\n",

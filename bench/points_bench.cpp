@@ -1,4 +1,4 @@
-// Point-sprite benchmark (issue 4): points per second at 1280x720 on the demo city's lidar scan
+// Point-sprite benchmark: points per second at 1280x720 on the demo city's lidar scan
 // for K = 1, 8, 40 images, the 2022 form (N') and, where it links, the 2016 form (mat3), each
 // frame also timed mesh-only in the same process (the ratio baseline: these shared machines are
 // noisy from one run to the next). Prints the largest K the mat3 program links with and

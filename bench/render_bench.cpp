@@ -1,4 +1,4 @@
-// Renderer benchmark (issue 2, "Performance"): a benchmark, not a test. One run prints
+// Renderer benchmark: a benchmark, not a test. One run prints
 //   1. demo-city generation, scene load, renderer set-up and the first frame of a held-out view;
 //   2. steady-state frame time at 1280x720 for K = 1, 8, 40 images blended;
 //   3. depth-map render time per image at several depth-map sizes;
@@ -47,7 +47,7 @@ using hv::bench::kFrameHeight;
 using hv::bench::kFrameWidth;
 
 // --- Tuning constants -------------------------------------------------------------------------
-// The frame size of issue 2. The demo views are 4:3 (320x240): they are scaled by 4 to 1280x960
+// The benchmark frame size (docs/performance.md). The demo views are 4:3 (320x240): they are scaled by 4 to 1280x960
 // and the intrinsics cropped to the middle 720 rows, so the frame is a true 1280x720 one with the
 // same focal length (see crop720p).
 constexpr int kFrameK[] = {1, 8, 40};  // images blended; the first is the ratio baseline

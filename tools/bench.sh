@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the benchmarks (Release, no tests) into build-bench/ and runs them: the renderer benchmark
-# (render_bench, issue 2) then the many-images benchmark (many_images_bench, issue 3).
+# (render_bench) then the many-images benchmark (many_images_bench).
 # Usage: tools/bench.sh [render|many] [--keep DIR]
 #   render / many: run only that benchmark (default: both, one after the other);
 #   --keep DIR: generate the scenes into DIR and leave them there (passed to each benchmark).

@@ -80,7 +80,7 @@ int runDemo(const DemoCommandOptions& o) {
   const std::string jsonPath = (fs::path(o.out) / "eval.json").string();
   std::ofstream(jsonPath) << eval::toJson(report).dump(2) << "\n";
 
-  // Hybrid rendering (issue 4): the same views with the simulated lidar scan drawn as textured
+  // Hybrid rendering: the same views with the simulated lidar scan drawn as textured
   // sprites over the mesh. Trees and parked cars stand in today's city only; the views (like the
   // photographs) do not show them, so they are hidden here.
   const std::string pointDir = (fs::path(o.out) / "renders-points").string();

@@ -6,7 +6,7 @@
 //   rotation R that maps world directions to camera directions: x_cam = R (X_world - C).
 // - Pixels: origin at the top-left *corner* of the image, x right, y down; the centre of the
 //   top-left pixel is (0.5, 0.5). An image of W x H pixels covers [0, W] x [0, H].
-// - Projection (DESIGN.md §1): p~ = K R (P - C), ideal pixel p = p~.xy / p~.z, depth z = p~.z
+// - Projection (docs/conventions.md): p~ = K R (P - C), ideal pixel p = p~.xy / p~.z, depth z = p~.z
 //   (distance along the camera axis, scene units).
 // - Lens distortion (LensDistortion below) maps an ideal pinhole pixel to the pixel where the
 //   photograph is looked up. The photograph is looked up at p_d; depth maps stay in the undistorted

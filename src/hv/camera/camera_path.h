@@ -1,4 +1,4 @@
-// Camera paths for `histoview fly` (issue 3, "Camera paths"): key cameras at given times, and the
+// Camera paths for `histoview fly`: key cameras at given times, and the
 // cameras in between.
 //
 // PATH.json is a cameras.json (docs/formats.md; `image` optional) whose cameras may carry a time

@@ -1,4 +1,4 @@
-// What a photograph sees, as lines to draw in 3D (the viewer's frustum debug view, issue 6): the
+// What a photograph sees, as lines to draw in 3D (the viewer's frustum debug view): the
 // border of its image unprojected to a depth, and the edges from its centre to the corners. Plain
 // C++ (no GL): the renderer uploads the segments, a CPU test checks them against hand values.
 //

@@ -1,5 +1,4 @@
-// The demo city: a deterministic synthetic scene with known ground truth (issue 2, "The demo city";
-// issue 4 point 8 scans the same World with a simulated mobile-mapping lidar: simulateLidar).
+// The demo city: a deterministic synthetic scene with known ground truth.
 //
 // What is generated, in world coordinates of EPSG:2154 (Lambert-93, metres, z up) around
 // (651000, 6862000):
@@ -81,7 +80,7 @@ struct CitySettings {
   double maskDilation = 2.0;  // pixels (Chebyshev), around car pixels
 };
 
-// The simulated mobile-mapping scan (issue 4, point 8): a vehicle drives every street in its
+// The simulated mobile-mapping scan: a vehicle drives every street in its
 // right-hand lane; a scanner on its roof turns in the vertical plane across the street and
 // casts `raysPerProfile` rays per turn, one turn every `profileSpacing` metres of travel.
 struct LidarSettings {

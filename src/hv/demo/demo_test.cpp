@@ -47,7 +47,7 @@ std::string readBytes(const fs::path& p) {
   return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
 
-// A camera rebuilt from cameras.json by hand (issue 2's schema), not through the generator's objects.
+// A camera rebuilt from cameras.json by hand (schema), not through the generator's objects.
 Camera cameraFromJson(const json& j) {
   Camera c;
   c.id = j.at("id").get<std::string>();

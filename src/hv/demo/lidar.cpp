@@ -1,4 +1,4 @@
-// The demo city's simulated mobile-mapping lidar scan (issue 4, point 8).
+// The demo city's simulated mobile-mapping lidar scan.
 #include <atomic>
 #include <cmath>
 #include <numbers>

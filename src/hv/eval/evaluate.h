@@ -1,4 +1,4 @@
-// Quality evaluation (DESIGN.md §3): render views with one or several blending methods and score
+// Quality evaluation (docs/evaluation.md): render views with one or several blending methods and score
 // them against ground-truth images on the pixels that every method and the truth cover.
 #pragma once
 

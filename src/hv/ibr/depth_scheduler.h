@@ -1,4 +1,4 @@
-// Progressive depth maps (DESIGN.md §2 step 3; de Castro & Brédif 2022 §2.2). A slot's depth map is
+// Progressive depth maps (docs/design.md, step 3; de Castro & Brédif 2022 §2.2). A slot's depth map is
 // dirty when the slot gets a new photograph or when the geometry that photograph sees changes. Each
 // frame renders at most `dmax` dirty depth maps, highest priority first (the caller gives the
 // priority: the renderer uses the camera's distance to the view, nearest first), so a static scene

@@ -1,4 +1,4 @@
-// The plain description of one frame that the GL renderer consumes (DESIGN.md §2 steps 1, 4):
+// The plain description of one frame that the GL renderer consumes (docs/design.md, steps 1, 4):
 // which photographs texture the view, with which weights, in which texture slices, with their
 // packed per-image parameters. No GL here: everything is CPU-testable.
 #pragma once
@@ -28,7 +28,7 @@ struct BlendSettings {
   bool masks = true;
   std::vector<std::string> exclude;  // photo ids left out (leave-one-out)
   // Only photographs that see part of the view frustum (clipped to the scene bounds) are
-  // candidates, so the K slots go to images that can texture the view (DESIGN.md §2 step 1).
+  // candidates, so the K slots go to images that can texture the view (docs/design.md, step 1).
   bool frustumFilter = true;
   // Time window (--from/--to): a dated photograph is a candidate when its date (the interval it
   // names, hv/util/dates.h) overlaps the window; an undated one (no date, or one parseDate

@@ -1,4 +1,4 @@
-// Streaming (issue 3 point 2): photographs decoded into slice images (makeSliceImage) off the
+// Streaming: photographs decoded into slice images (makeSliceImage) off the
 // render thread, under a memory cap. GL-free: the renderer uploads what poll()/wait() hand back.
 //
 // - Requests are queued by priority (lower value first: the renderer passes the camera's distance

@@ -1,4 +1,4 @@
-// CPU reference of the per-fragment blend (DESIGN.md §2 step 5). It is the specification the
+// CPU reference of the per-fragment blend (docs/design.md, step 5). It is the specification the
 // mesh shader (shaders/ibr_shade.frag, `hv_blend`) is tested against at sampled pixels.
 #pragma once
 

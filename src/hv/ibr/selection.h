@@ -1,4 +1,4 @@
-// Image selection (DESIGN.md §2 step 1): the K+1 nearest camera centres to the view centre,
+// Image selection (docs/design.md, step 1): the K+1 nearest camera centres to the view centre,
 // through a kd-tree (nanoflann) over the camera centres, after a filter.
 #pragma once
 

@@ -1,4 +1,4 @@
-// How a photograph is put into its texture slice (DESIGN.md §2 step 2): scaled (never up) to fit
+// How a photograph is put into its texture slice (docs/design.md, step 2): scaled (never up) to fit
 // the slice, padded with transparent texels, the mask in alpha, colour premultiplied by alpha.
 // Plain C++ so the tests can build exactly what the GPU samples.
 #pragma once

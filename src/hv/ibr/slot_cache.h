@@ -1,4 +1,4 @@
-// Residency (issue 3 point 2): which photograph lives in which slice ("slot") of the image and
+// Residency (de Castro & Brédif 2022 §2.1): which photograph lives in which slice ("slot") of the image and
 // depth-map texture arrays. A scene may hold far more photographs than there are slots, so slots
 // are recycled least recently used first; the slots the current frame samples are pinned and never
 // recycled while the frame is being built. Plain C++, single-threaded, no GL, deterministic (the

@@ -1,4 +1,4 @@
-// Projective texturing of point sprites through per-point plane homographies (DESIGN.md §2 step 6;
+// Projective texturing of point sprites through per-point plane homographies (docs/design.md, step 6;
 // Devaux & Brédif 2016 §3, de Castro & Brédif 2022 §2.3). Plain C++: the GLSL twins are in
 // shaders/points.vert and shaders/points.frag, tested against these by src/hv/render/points_gltest.cpp.
 //
@@ -13,7 +13,7 @@
 //     2022 form:  N' = M^-T N / (N^T (P - C)),  p_i = H'_i p + (N'.p) E_i,
 //                 H'_i = M_i M^-1,  E_i = M_i (C - C_i)
 //   so that p_i = H_i p = M_i (X - C_i) * (N'.p) where X is the plane point under p: the depth of X
-//   in image i is p_i.z / (N'.p), and its depth in the target camera is 1 / (N'.p) (DESIGN.md §2 step 6).
+//   in image i is p_i.z / (N'.p), and its depth in the target camera is 1 / (N'.p) (docs/design.md, step 6).
 // - A fragment whose N'.p <= 0 sees the plane's back side (or misses it): rejected.
 #pragma once
 

@@ -1,5 +1,4 @@
-// Per-tile image lists (issue 3, "Culling"; the acceleration structure that de Castro & Brédif
-// 2022 name as future work). The view is cut into square tiles of its depth buffer; for each tile,
+// Per-tile image lists. The view is cut into square tiles of its depth buffer; for each tile,
 // the GPU reports the range of linear depth of its visible surface, and this code lists the
 // images whose frustum may cover some point of the tile's slab (the tile's pixel rectangle between
 // those depths). The shading pass then loops over that list only, so a fragment pays for the

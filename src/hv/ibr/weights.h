@@ -1,4 +1,4 @@
-// View-dependent blending weights (Brédif 2013, eq. 1-2; DESIGN.md §2 step 5).
+// View-dependent blending weights (Brédif 2013, eq. 1-2; docs/design.md, step 5).
 //   f(d) = 1 / (sigma^2 + d^2),   w_i = f(d_i) - f(d_{K+1}),   i = 1..K
 // with d_i the distances from the view centre to the camera centres, sorted ascending, and
 // f(d_{K+1}) = 0 when there are K or fewer candidates. When the K-th and (K+1)-th images swap,

@@ -1,4 +1,4 @@
-// GL tests of the viewer's live switches and debug views (issue 6) on llvmpipe: the colour ramp's
+// GL tests of the viewer's live switches and debug views on llvmpipe: the colour ramp's
 // GLSL twin, the weight view against the CPU reference shares (hv::ibr::referenceBlend), the
 // depth-map view against ray casts from the photograph, frusta over the picture, and the geometry
 // layers, lens distortion, masks and points switched between frames (with what each invalidates).

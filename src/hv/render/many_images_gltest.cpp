@@ -1,4 +1,4 @@
-// Many images in one pass (issue 3): a wall covered by 256 small photographs, each seeing only
+// Many images in one pass: a wall covered by 256 small photographs, each seeing only
 // its own patch, rendered with K = 256, with and without per-tile culling.
 #include "hv/eval/metrics.h"
 #include "hv/render/renderer.h"

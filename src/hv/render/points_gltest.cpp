@@ -1,4 +1,4 @@
-// GL tests of the point pass (issue 4): perspective-correct sprites, the mat3 (2016) and N'
+// GL tests of the point pass: perspective-correct sprites, the mat3 (2016) and N'
 // (2022) forms against each other, the diachrony filters on the demo city, and points vs
 // mesh-only on the demo views.
 #include "hv/demo/demo_city.h"
@@ -406,7 +406,7 @@ std::vector<std::uint8_t> detailMask(const RayCaster& truth, const RayCaster& mo
   return mask;
 }
 
-// Points vs mesh-only on the demo views against their ground truth (issue 4, hybrid rendering):
+// Points vs mesh-only on the demo views against their ground truth:
 // where the model lacks detail the points, which sample the real surfaces, must do better; over
 // the whole picture the figures are printed (the sprites' sampling competes with the mesh's exact
 // planes where the model is right).

@@ -101,7 +101,7 @@ struct DrawRange {
 };
 
 // What the photographs' depth maps are drawn from besides the scene itself. When it changes
-// between frames every depth map is redrawn (issue 6's live toggles).
+// between frames every depth map is redrawn (live toggles).
 struct DepthMapInputs {
   std::array<bool, kLayerCount> layers{true, true, true};
   bool lensDistortion = true;  // the frusta: the ideal rectangle covering the distorted image, or W x H
@@ -197,7 +197,7 @@ struct Renderer::Impl {
   std::vector<ibr::ImageParams> params;
   RenderStats stats;
 
-  // The point pass (issue 4).
+  // The point pass.
   bool pointsOn = false;        // the scene's points are uploaded (array binding; pointsActive: and enabled)
   bool classify = false;        // the classification filter applies
   bool epsilonTest = false;     // the epsilon filter applies
@@ -216,7 +216,7 @@ struct Renderer::Impl {
   bool pointsTried = false;        // initPoints ran (points are uploaded on first use)
   bool warnedPointClasses = false;
 
-  // Debug views and overlays (issue 6), linked on first use.
+  // Debug views and overlays, linked on first use.
   gpu::Program debugDepthProgram, linesProgram;
   gpu::VertexArray frustumVao;
   gpu::Buffer frustumBuffer;
@@ -275,7 +275,7 @@ struct Renderer::Impl {
         for (size_t t = 0; t < m->triangles.size(); ++t)
           for (int k = 0; k < 3; ++k) vertexTag[m->triangles[t][k]] = m->triangleTags[t];
       for (size_t v = 0; v < m->positions.size(); ++v) {
-        const glm::dvec3 r = m->positions[v] - scene.origin;  // render frame: small floats (DESIGN.md §1)
+        const glm::dvec3 r = m->positions[v] - scene.origin;  // render frame: small floats (docs/conventions.md)
         glm::vec2 valid = always;
         float building = 0.0f;
         if (isBuildings) {
@@ -374,7 +374,7 @@ struct Renderer::Impl {
     const std::vector<glm::u8vec4> colors = pointDisplayColors(cloud, ps.color);
     std::vector<PointVertex> vertices(cloud.size());
     for (size_t i = 0; i < cloud.size(); ++i) {
-      const glm::dvec3 r = cloud.positions[i] - scene.origin;  // render frame (DESIGN.md §1)
+      const glm::dvec3 r = cloud.positions[i] - scene.origin;  // render frame (docs/conventions.md)
       const glm::vec3 n = fields.normals ? cloud.normals[i] : glm::vec3(0.0f);
       vertices[i] = {{float(r.x), float(r.y), float(r.z)}, {n.x, n.y, n.z},
                      {colors[i].r, colors[i].g, colors[i].b, colors[i].a}};
@@ -449,12 +449,12 @@ struct Renderer::Impl {
 
   double meshOffset() const {
     if (settings.points.meshOffset >= 0.0) return settings.points.meshOffset;
-    return 6e-4 * glm::length(bounds.size());  // the data's own scale (DESIGN.md §1)
+    return 6e-4 * glm::length(bounds.size());  // the data's own scale (docs/conventions.md)
   }
 
   double pointEpsilon() const {
     if (settings.points.epsilon >= 0.0) return settings.points.epsilon;
-    return 2e-3 * glm::length(bounds.size());  // the data's own scale (DESIGN.md §1)
+    return 2e-3 * glm::length(bounds.size());  // the data's own scale (docs/conventions.md)
   }
 
   // Draws the sprites a camera sees (selectChunks within the budget) with `program` into a target
@@ -691,7 +691,7 @@ struct Renderer::Impl {
     ++stats.imagesLoaded;
   }
 
-  // Residency (DESIGN.md §2 step 2): pins the plan's resident photos, asks the loader for the
+  // Residency (docs/design.md, step 2): pins the plan's resident photos, asks the loader for the
   // others (nearest first) and installs what it delivers: all of them in batch frames (waiting),
   // what is ready in progressive ones. Returns false when a planned photo turned out broken.
   bool makeResident(FrameMode mode) {
@@ -823,7 +823,7 @@ struct Renderer::Impl {
 
   double depthBiasAbsolute() const {
     if (settings.depthBiasAbsolute >= 0.0) return settings.depthBiasAbsolute;
-    // Derived from the data's own scale (DESIGN.md §1), not fixed metres.
+    // Derived from the data's own scale (docs/conventions.md), not fixed metres.
     return 5e-4 * glm::length(bounds.size());
   }
 
@@ -868,7 +868,7 @@ struct Renderer::Impl {
     planAndLoad(view, blend, FrameMode::Batch);
   }
 
-  // ---- Live settings (issue 6): what a viewer may change between frames ----
+  // ---- Live settings: what a viewer may change between frames ----
 
   // The camera photograph `photo` is projected with: its own, or without its lens distortion
   // (LayerSettings::lensDistortion off).
@@ -977,7 +977,7 @@ struct Renderer::Impl {
       residentSlots.push_back(slots.back());
       residentPriority.push_back(im.distance);
     }
-    // Depth maps (DESIGN.md §2 step 3): all of them in batch mode, else the nearest Dmax.
+    // Depth maps (docs/design.md, step 3): all of them in batch mode, else the nearest Dmax.
     stats.depthMapsThisFrame = 0;
     const int dmax = mode == FrameMode::Batch ? 0 : settings.depthMapsPerFrame;
     const bool budgeted = mode == FrameMode::Progressive && settings.depthBudgetMs > 0.0;
@@ -995,7 +995,7 @@ struct Renderer::Impl {
     debugWaiting = settings.debug.view == DebugView::DepthMap && debugSlot < 0 && settings.debug.photo >= 0 &&
                    loader->isPending(settings.debug.photo);
 
-    // Per-image parameters (DESIGN.md §2 step 4): one row of the data texture per image. An image
+    // Per-image parameters (docs/design.md, step 4): one row of the data texture per image. An image
     // whose depth map is not current yet (progressive frames) waits, unless occlusion is off.
     params.clear();
     std::vector<float> packed;
@@ -1269,7 +1269,7 @@ struct Renderer::Impl {
     return gpu::Program(src.vertex, src.fragment, src.defines);
   }
 
-  // ---- Debug views and overlays (issue 6) ----
+  // ---- Debug views and overlays ----
 
   // Draws settings.debug.view into the colour target (viewFbo bound, the shading program's inputs
   // set). Returns its raw values when the colour is read back.
@@ -1380,7 +1380,7 @@ struct Renderer::Impl {
       const std::vector<glm::dvec3> lines = frustumLineSegments(frustumOutline(cam, depth, curved ? 8 : 1));
       frustumRange.push_back({GLsizei(xyz.size() / 3), GLsizei(lines.size())});
       for (const glm::dvec3& p : lines) {
-        const glm::dvec3 r = p - scene.origin;  // render frame (DESIGN.md §1)
+        const glm::dvec3 r = p - scene.origin;  // render frame (docs/conventions.md)
         xyz.insert(xyz.end(), {float(r.x), float(r.y), float(r.z)});
       }
     }

@@ -1,5 +1,5 @@
 // The renderer: consumes a FramePlan, moves data to the GPU and runs the passes
-// (DESIGN.md §2 steps 2-5). Needs a current GLES 3.0 context (hv/gpu/context.h); owns no
+// (docs/design.md, steps 2-5). Needs a current GLES 3.0 context (hv/gpu/context.h); owns no
 // platform code, so the same class serves `render`, `eval`, the viewer and the browser.
 #pragma once
 

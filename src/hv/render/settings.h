@@ -23,13 +23,13 @@ enum class Binding {
 };
 
 inline constexpr double kDefaultSphereRadius = 100.0;
-// How a point sprite finds its texture coordinates (DESIGN.md §2 step 6).
+// How a point sprite finds its texture coordinates (docs/design.md, step 6).
 enum class SpriteForm {
   PlaneVector,  // 2022: one vec3 varying N', p_i = H'_i p + (N'.p) E_i in the fragment shader
   Mat3,         // 2016: a mat3 varying per image (H_i), capped by MAX_VARYING_COMPONENTS
 };
 
-// Which points the photographs texture (DESIGN.md §2 step 7; 2022 §2.4).
+// Which points the photographs texture (docs/design.md, step 7; 2022 §2.4).
 enum class PointFilter {
   Auto,            // Classification when the cloud has classes, else Epsilon
   Classification,  // only keptClasses are textured (and, keptInDepthMaps, occlude)
@@ -37,7 +37,7 @@ enum class PointFilter {
   None,            // every point textured, depth maps the model only, the ordinary shadow test
 };
 
-// The point pass (issue 4): scene.points drawn as textured sprites over the mesh.
+// The point pass: scene.points drawn as textured sprites over the mesh.
 struct PointSettings {
   bool enabled = false;                // draw scene.points (when there are any)
   std::uint64_t budget = 2'000'000;    // points per frame (and per depth map), hv::selectChunks
@@ -62,7 +62,7 @@ struct PointSettings {
   double eyeDomeRadiusPx = 1.4;
 };
 
-// Geometry layers and corrections switched off live, to see what each contributes (issue 6). A
+// Geometry layers and corrections switched off live, to see what each contributes. A
 // layer switched off is left out of the view and of the photographs' depth maps; changing one
 // redraws every depth map. (Masks are BlendSettings::masks: the slices hold the colour
 // premultiplied by the mask, so switching them decodes the photographs again.)
@@ -76,7 +76,7 @@ struct LayerSettings {
   bool lensDistortion = true;
 };
 
-// Debug views (issue 6). With a view other than None the picture (RenderOutput::rgba and
+// Debug views. With a view other than None the picture (RenderOutput::rgba and
 // colorTexture()) is that view, coloured with hv::colorRamp (dark purple 0 ... yellow 1), and
 // RenderOutput::debugValues holds its raw values (16 bits, one channel) when the colour is read back.
 enum class DebugView {

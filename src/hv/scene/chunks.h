@@ -1,4 +1,4 @@
-// The spatial organisation of a point cloud for drawing (issue 4, "Spatial structure"): at load
+// The spatial organisation of a point cloud for drawing: at load
 // time the points are reordered into chunks, the leaves of a k-d tree whose nodes are split at
 // the median of their longest axis until at most `maxPointsPerChunk` points remain, so chunks hold
 // about the same number of points wherever the density is (airborne or mobile mapping). Inside a

@@ -1,4 +1,4 @@
-// How an untextured point is shown (issue 4, "Untextured points"): its own colour, from the
+// How an untextured point is shown: its own colour, from the
 // attribute the cloud carries. Plain data for the renderer's point buffer.
 #pragma once
 

@@ -1,5 +1,5 @@
 // Normals for point clouds that carry none (LAS has no normal field): the sprites of the point
-// pass are planes, and a camera-facing plane (the fallback of DESIGN.md §2 step 6) textures a
+// pass are planes, and a camera-facing plane (the fallback of docs/design.md, step 6) textures a
 // road or a wall seen at an angle from the wrong places of each photograph.
 //
 // The estimate is the classic one of Hoppe et al. (1992), "Surface reconstruction from

@@ -1,5 +1,5 @@
 // Calendar dates as closed intervals of days, for the photographs' `date` field and the
-// --from/--to time window (issue 3, "Time").
+// --from/--to time window.
 //
 // A date is read as the interval it names: `1905` is 1905-01-01..1905-12-31, `1905-06` is
 // 1905-06-01..1905-06-30, `1905-06-01` (with or without a time of day) is that one day. Two dates

@@ -1,4 +1,4 @@
-// Navigation for the viewer (issue 6): free flight and street-level walking, focus + context
+// Navigation for the viewer: free flight and street-level walking, focus + context
 // transitions to a photograph, and the order of the photographs along a street. Plain C++ (no
 // GL, no window): the desktop viewer feeds it keys and mouse motion, the tests feed it numbers.
 //

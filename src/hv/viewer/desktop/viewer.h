@@ -1,4 +1,4 @@
-// The desktop viewer (`histoview view`, issue 6): a GLFW window with a GLES 3 context, the same
+// The desktop viewer (`histoview view`): a GLFW window with a GLES 3 context, the same
 // renderer as `render` in progressive frames, free flight and street-level walking, focus +
 // context on the photographs, an ImGui control panel. Built only when GLFW and Dear ImGui are
 // found (HV_HAVE_VIEWER); the platform code is under hv/viewer/desktop/.
