@@ -5,7 +5,7 @@
 # is native by default. Native libraries are reached from portable code only through small
 # interfaces (hv/scene/ray_query.h, hv/gpu/context.h); tests/portable_link_check.cpp links the
 # whole portable library without them (docs/web.md).
-set(HV_PORTABLE_DIRS camera ibr points render util)
+set(HV_PORTABLE_DIRS camera ibr points render render/gl util)
 set(HV_PORTABLE_FILES
   gpu/gl.cpp gpu/present.cpp
   image/image_io.cpp image/colormap.cpp
