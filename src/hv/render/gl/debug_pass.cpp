@@ -54,20 +54,20 @@ Image16 GlBackend::depthMapView(const Frame& f, ViewPassStats& stats) {
   Image16 values(w, h, 1, 65535);
   std::vector<bool> inside(size_t(w) * h, false);
   if (slot >= 0) {
-    if (!debugDepthProgram_.id()) {
-      debugDepthProgram_ = linkProgram(programs().debugDepth);
+    if (!debugDepthProgram_.program.id()) {
+      debugDepthProgram_ = DebugDepthProgram(programs().debugDepth);
     }
     // The map covers the frustum's ideal rectangle: shown with that aspect ratio, centred.
     const double aspect = (fr.pxMax.x - fr.pxMin.x) / (fr.pxMax.y - fr.pxMin.y);
     const glm::dvec2 rect = aspect * h > w ? glm::dvec2(w, w / aspect) : glm::dvec2(h * aspect, h);
     const glm::dvec2 rectMin = (glm::dvec2(w, h) - rect) / 2.0;
-    const gpu::Program& p = debugDepthProgram_;
-    p.use();
+    const DebugDepthProgram& p = debugDepthProgram_;
+    p.program.use();
     gpu::bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray_.id());
-    glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
-    glUniform1f(p.uniform("u_slice"), float(slot));
-    glUniform2f(p.uniform("u_rectMin"), float(rectMin.x), float(rectMin.y));
-    glUniform2f(p.uniform("u_rectSize"), float(rect.x), float(rect.y));
+    glUniform1i(p.depthMaps, kUnitDepthMaps);
+    glUniform1f(p.slice, float(slot));
+    glUniform2f(p.rectMin, float(rectMin.x), float(rectMin.y));
+    glUniform2f(p.rectSize, float(rect.x), float(rect.y));
     glBindVertexArray(emptyVao_.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
@@ -77,7 +77,7 @@ Image16 GlBackend::depthMapView(const Frame& f, ViewPassStats& stats) {
         values.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
         inside[size_t(y) * w + x] = enc.at(x, y, 2) > 127;
       }
-    shadeProgram_.use();
+    shadeProgram_.program.use();
   }
   int lo = 65535, hi = 0;
   for (size_t i = 0; i < inside.size(); ++i)

@@ -6,17 +6,17 @@
 
 namespace hv::render::gl {
 
-void GlBackend::drawDepth(const gpu::Program& program, const glm::dmat4& clip, double near, double far,
+void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
                           const DateInterval& date, const std::array<bool, kLayerCount>& layers, double pushBack,
                           glm::dvec3 centerRender) {
-  program.use();
-  glUniform1f(program.uniform("u_pushBack"), float(pushBack));
-  glUniform3f(program.uniform("u_center"), float(centerRender.x), float(centerRender.y), float(centerRender.z));
-  gpu::uploadMat4(program.uniform("u_clipFromRender"), clip);
-  glUniform1f(program.uniform("u_near"), float(near));
-  glUniform1f(program.uniform("u_far"), float(far));
+  program.program.use();
+  glUniform1f(program.pushBack, float(pushBack));
+  glUniform3f(program.center, float(centerRender.x), float(centerRender.y), float(centerRender.z));
+  gpu::uploadMat4(program.clipFromRender, clip);
+  glUniform1f(program.near, float(near));
+  glUniform1f(program.far, float(far));
   const glm::vec2 days = ibr::gpuDays(date);
-  glUniform2f(program.uniform("u_date"), days.x, days.y);
+  glUniform2f(program.date, days.x, days.y);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);

@@ -26,10 +26,10 @@ Image8 readColour(int w, int h) {
 }
 
 GlBackend::GlBackend(Diagnostics& diag) : diag_(diag), limits_(gpu::queryLimits()) {
-  depthProgram_ = linkProgram(programs().depth);
-  viewDepthProgram_ = linkProgram(programs().viewDepth);
-  shadeProgram_ = linkProgram(programs().shade);  // replaced in allocateSlots for the naive binding
-  tileDepthProgram_ = linkProgram(programs().tileDepth);
+  depthProgram_ = DepthProgram(programs().depth);
+  viewDepthProgram_ = DepthProgram(programs().viewDepth);
+  shadeProgram_ = ShadeProgram(programs().shade);  // replaced in allocateSlots for the naive binding
+  tileDepthProgram_ = TileDepthProgram(programs().tileDepth);
   depthFbo_ = gpu::makeFramebuffer();
   viewFbo_ = gpu::makeFramebuffer();
   emptyVao_ = gpu::makeVertexArray();
@@ -97,21 +97,21 @@ PointProgramInfo GlBackend::uploadPoints(const std::vector<PointVertex>& vertice
   glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, range);
   maxPointSize_ = float(std::max(1.0, std::min<double>(range[1], req.maxPointSizePx)));
   info.maxPointSize = maxPointSize_;
-  pointDepthProgram_ = linkProgram(programs().pointDepth);
+  pointDepthProgram_ = PointProgram(programs().pointDepth);
   if (req.form == SpriteForm::Mat3) {
     // Linking far beyond the varying limit can crash a driver's compiler (llvmpipe does at K = 40)
     // instead of failing: start from what the limit allows, 9 components per image.
     const int start = std::max(1, std::min(req.wantImages, limits_.maxVaryingComponents / 9));
     for (int k = start; k >= 1 && info.mat3Images == 0; --k) {
       try {
-        pointColorProgram_ = linkProgram(programs().pointColor, {"HV_MAT3_K=" + std::to_string(k)});
+        pointColorProgram_ = PointProgram(programs().pointColor, {"HV_MAT3_K=" + std::to_string(k)});
         info.mat3Images = k;
       } catch (const std::runtime_error&) {
       }
     }
     if (info.mat3Images == 0) throw std::runtime_error("the mat3 sprite program links with no image at all");
   } else {
-    pointColorProgram_ = linkProgram(programs().pointColor);
+    pointColorProgram_ = PointProgram(programs().pointColor);
   }
   return info;
 }
@@ -129,7 +129,7 @@ void GlBackend::allocateSlots(const SlotLayout& layout) {
       naiveDepths_.push_back(gpu::makeDepthTarget(layout.depthSize, layout.depthSize));
     }
     checkGlError("naive slices");
-    shadeProgram_ = linkProgram(programs().shade, {"HV_NAIVE", "HV_NAIVE_COUNT=" + std::to_string(n)});
+    shadeProgram_ = ShadeProgram(programs().shade, n);
   } else {
     imageArray_ = gpu::makeRgba8Array(w, h, n);
     depthArray_ = gpu::makeDepthArray(layout.depthSize, n);
@@ -153,7 +153,7 @@ void GlBackend::uploadImage(int slot, const Image8& slice) {
 void GlBackend::finishDepthMaps() { glFinish(); }
 
 Image8 GlBackend::shade(ShadeMode mode, int w, int h, bool readBack) {
-  glUniform1i(shadeProgram_.uniform("u_mode"), mode);
+  glUniform1i(shadeProgram_.mode, mode);
   glBindVertexArray(emptyVao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -179,7 +179,7 @@ RenderOutput GlBackend::runViewPasses(const Frame& f, ViewPassStats& stats) {
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   gpu::checkFramebuffer("view colour");
   glViewport(0, 0, view.width, view.height);
-  shadeProgram_.use();
+  shadeProgram_.program.use();
   bindShadeInputs(f);
 
   RenderOutput out;

@@ -12,6 +12,7 @@
 
 #include "hv/gpu/gl.h"
 #include "hv/render/backend.h"
+#include "hv/render/gl/programs.h"
 #include "hv/util/diagnostics.h"
 
 #include <array>
@@ -65,14 +66,14 @@ class GlBackend final : public Backend {
  private:
   bool naive() const { return layout_.binding == Binding::Naive; }
   // depth_pass.cpp
-  void drawDepth(const gpu::Program& program, const glm::dmat4& clip, double near, double far,
+  void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
                  const DateInterval& date, const std::array<bool, kLayerCount>& layers, double pushBack,
                  glm::dvec3 centerRender);
   void drawLayers(const std::array<bool, kLayerCount>& layers);
   void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
   void viewDepthPass(const Frame& f);
   // points_pass.cpp
-  void drawPoints(const gpu::Program& program, const PointPass& pass, const Camera& cam,
+  void drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam,
                   const ibr::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender);
   void uploadPointParams(const Frame& f, const glm::dmat3& viewM);
   void viewPointsPass(const Frame& f);
@@ -93,7 +94,9 @@ class GlBackend final : public Backend {
   gpu::GlLimits limits_;
   SlotLayout layout_;
 
-  gpu::Program depthProgram_, viewDepthProgram_, shadeProgram_, tileDepthProgram_;
+  DepthProgram depthProgram_, viewDepthProgram_;
+  ShadeProgram shadeProgram_;
+  TileDepthProgram tileDepthProgram_;
   gpu::VertexArray meshVao_, emptyVao_;
   gpu::Buffer vertexBuffer_, indexBuffer_;
   int indexCount_ = 0;
@@ -117,7 +120,7 @@ class GlBackend final : public Backend {
   int tilesX_ = 0;
 
   // The point pass.
-  gpu::Program pointDepthProgram_, pointColorProgram_;
+  PointProgram pointDepthProgram_, pointColorProgram_;
   gpu::VertexArray pointVao_;
   gpu::Buffer pointBuffer_;
   float maxPointSize_ = 1.0f;
@@ -126,7 +129,8 @@ class GlBackend final : public Backend {
   int pointParamsRows_ = 0;
 
   // Debug views and overlays, linked on first use.
-  gpu::Program debugDepthProgram_, linesProgram_;
+  DebugDepthProgram debugDepthProgram_;
+  LinesProgram linesProgram_;
   gpu::VertexArray frustumVao_;
   gpu::Buffer frustumBuffer_;
   std::uint64_t frustumVersion_ = 0;

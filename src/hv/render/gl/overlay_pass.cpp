@@ -38,17 +38,17 @@ void GlBackend::frustaPass(const Frame& f) {
     frustumVersion_ = lines->version;
     gpu::checkGlError("frustum lines");
   }
-  if (!linesProgram_.id()) {
-    linesProgram_ = linkProgram(programs().lines);
+  if (!linesProgram_.program.id()) {
+    linesProgram_ = LinesProgram(programs().lines);
   }
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, viewDepth_.id(), 0);
   gpu::checkFramebuffer("frusta");
-  const gpu::Program& p = linesProgram_;
-  p.use();
-  gpu::uploadMat4(p.uniform("u_clipFromRender"), f.rect.clipFromRender);
-  glUniform1f(p.uniform("u_near"), float(f.rect.frustum.near));
-  glUniform1f(p.uniform("u_far"), float(f.rect.frustum.far));
-  const GLint colorLoc = p.uniform("u_color");
+  const LinesProgram& p = linesProgram_;
+  p.program.use();
+  gpu::uploadMat4(p.clipFromRender, f.rect.clipFromRender);
+  glUniform1f(p.near, float(f.rect.frustum.near));
+  glUniform1f(p.far, float(f.rect.frustum.far));
+  const GLint colorLoc = p.color;
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glEnable(GL_BLEND);

@@ -10,25 +10,25 @@ namespace hv::render::gl {
 
 // Draws `pass`'s sprites with `program` into a target of `size` texels covering `fr`. The caller
 // sets the depth state and the program's own uniforms.
-void GlBackend::drawPoints(const gpu::Program& program, const PointPass& pass, const Camera& cam,
+void GlBackend::drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam,
                            const ibr::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender) {
   const glm::dmat3 M = ibr::targetCameraMatrix(cam, fr, size);
   const glm::dmat3 Minv = glm::inverse(M);
   const glm::dvec3 c = centerRender;
-  program.use();
-  gpu::uploadMat3(program.uniform("u_M"), M);
-  gpu::uploadMat3(program.uniform("u_MinvT"), glm::transpose(Minv));
-  gpu::uploadMat3(program.uniform("u_Minv"), Minv);
-  glUniform3f(program.uniform("u_C"), float(c.x), float(c.y), float(c.z));
-  glUniform2f(program.uniform("u_targetSize"), float(size.x), float(size.y));
-  glUniform1f(program.uniform("u_near"), float(fr.near));
-  glUniform1f(program.uniform("u_far"), float(fr.far));
-  glUniform1f(program.uniform("u_maxPointSize"), maxPointSize_);
-  glUniform1f(program.uniform("u_depthOffset"), float(pass.depthOffset));
-  glUniform1i(program.uniform("u_classify"), pass.classify ? 1 : 0);
-  glUniform1i(program.uniform("u_dropTransient"), pass.dropTransient ? 1 : 0);
-  glUniform1uiv(program.uniform("u_keptClasses"), 8, pass.keptClasses.data());
-  const GLint radiusLoc = program.uniform("u_radius");
+  program.program.use();
+  gpu::uploadMat3(program.M, M);
+  gpu::uploadMat3(program.MinvT, glm::transpose(Minv));
+  gpu::uploadMat3(program.Minv, Minv);
+  glUniform3f(program.C, float(c.x), float(c.y), float(c.z));
+  glUniform2f(program.targetSize, float(size.x), float(size.y));
+  glUniform1f(program.near, float(fr.near));
+  glUniform1f(program.far, float(fr.far));
+  glUniform1f(program.maxPointSize, maxPointSize_);
+  glUniform1f(program.depthOffset, float(pass.depthOffset));
+  glUniform1i(program.classify, pass.classify ? 1 : 0);
+  glUniform1i(program.dropTransient, pass.dropTransient ? 1 : 0);
+  glUniform1uiv(program.keptClasses, 8, pass.keptClasses.data());
+  const GLint radiusLoc = program.radius;
   glBindVertexArray(pointVao_.id());
   for (const PointDraw& d : pass.draws) {
     glUniform1f(radiusLoc, d.radius);
@@ -85,29 +85,29 @@ void GlBackend::viewPointsPass(const Frame& f) {
   const GLfloat clear[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, clear);
   uploadPointParams(f, ibr::targetCameraMatrix(view, vf, depthSz));
-  const gpu::Program& p = pointColorProgram_;
-  p.use();
+  const PointProgram& p = pointColorProgram_;
+  p.program.use();
   gpu::bindUnit(kUnitImages, GL_TEXTURE_2D_ARRAY, imageArray_.id());
   gpu::bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray_.id());
   gpu::bindUnit(kUnitParams, GL_TEXTURE_2D, paramsTexture_.id());
   gpu::bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth_.id());
   gpu::bindUnit(kUnitPointParams, GL_TEXTURE_2D, pointParamsTexture_.id());
-  glUniform1i(p.uniform("u_images"), kUnitImages);
-  glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
-  glUniform1i(p.uniform("u_params"), kUnitParams);
-  glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
-  glUniform1i(p.uniform("u_pointParams"), kUnitPointParams);
-  glUniform1i(p.uniform("u_imageCount"), int(f.params.size()));
-  glUniform1i(p.uniform("u_method"), f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
-  glUniform1i(p.uniform("u_occlusion"), f.blend.occlusion ? 1 : 0);
-  glUniform1i(p.uniform("u_epsilonTest"), vp.epsilonTest ? 1 : 0);
-  glUniform1f(p.uniform("u_epsilon"), float(vp.epsilon));
-  glUniform1i(p.uniform("u_eyeDome"), vp.eyeDome ? 1 : 0);
-  glUniform1f(p.uniform("u_edlStrength"), float(vp.eyeDomeStrength));
-  glUniform1f(p.uniform("u_edlRadius"), float(vp.eyeDomeRadiusPx));
+  glUniform1i(p.images, kUnitImages);
+  glUniform1i(p.depthMaps, kUnitDepthMaps);
+  glUniform1i(p.params, kUnitParams);
+  glUniform1i(p.viewDepth, kUnitViewDepth);
+  glUniform1i(p.pointParams, kUnitPointParams);
+  glUniform1i(p.imageCount, int(f.params.size()));
+  glUniform1i(p.method, f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+  glUniform1i(p.occlusion, f.blend.occlusion ? 1 : 0);
+  glUniform1i(p.epsilonTest, vp.epsilonTest ? 1 : 0);
+  glUniform1f(p.epsilon, float(vp.epsilon));
+  glUniform1i(p.eyeDome, vp.eyeDome ? 1 : 0);
+  glUniform1f(p.edlStrength, float(vp.eyeDomeStrength));
+  glUniform1f(p.edlRadius, float(vp.eyeDomeRadiusPx));
   // Both passes compute the same float expression; the tolerance only absorbs compilers that
   // evaluate it differently in the two programs (1e-6 of the depth range).
-  glUniform1f(p.uniform("u_depthTolerance"), 1e-6f);
+  glUniform1f(p.depthTolerance, 1e-6f);
   drawPoints(p, vp.pass, view, vf, depthSz, center);
   gpu::checkGlError("point passes");
 }

@@ -42,7 +42,7 @@ void GlBackend::uploadIdealLookup(const Camera& view) {
 }
 
 void GlBackend::bindShadeInputs(const Frame& f) {
-  const gpu::Program& p = shadeProgram_;
+  const ShadeProgram& p = shadeProgram_;
   const Camera& view = f.view;
   const ibr::PinholeFrustum& vf = f.rect.frustum;
   const bool distorted = f.rect.distorted;
@@ -54,8 +54,8 @@ void GlBackend::bindShadeInputs(const Frame& f) {
       const int slot = k < int(f.params.size()) ? f.params[size_t(k)].layout.slice : 0;
       gpu::bindUnit(imageUnit, GL_TEXTURE_2D, naiveImages_[size_t(slot)].id());
       gpu::bindUnit(depthUnit, GL_TEXTURE_2D, naiveDepths_[size_t(slot)].id());
-      glUniform1i(p.uniform(("u_image" + std::to_string(k)).c_str()), imageUnit);
-      glUniform1i(p.uniform(("u_depth" + std::to_string(k)).c_str()), depthUnit);
+      glUniform1i(p.naiveImages[size_t(k)], imageUnit);
+      glUniform1i(p.naiveDepths[size_t(k)], depthUnit);
     }
   } else {
     gpu::bindUnit(kUnitImages, GL_TEXTURE_2D_ARRAY, imageArray_.id());
@@ -65,43 +65,43 @@ void GlBackend::bindShadeInputs(const Frame& f) {
   gpu::bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth_.id());
   gpu::bindUnit(kUnitLookup, GL_TEXTURE_2D, distorted ? lookupTexture_.id() : 0);
   if (!naive()) {
-    glUniform1i(p.uniform("u_images"), kUnitImages);
-    glUniform1i(p.uniform("u_depthMaps"), kUnitDepthMaps);
+    glUniform1i(p.images, kUnitImages);
+    glUniform1i(p.depthMaps, kUnitDepthMaps);
   }
-  glUniform1i(p.uniform("u_params"), kUnitParams);
-  glUniform1i(p.uniform("u_viewDepth"), kUnitViewDepth);
-  glUniform1i(p.uniform("u_idealLookup"), kUnitLookup);
-  glUniform1i(p.uniform("u_useLookup"), distorted ? 1 : 0);
+  glUniform1i(p.params, kUnitParams);
+  glUniform1i(p.viewDepth, kUnitViewDepth);
+  glUniform1i(p.idealLookup, kUnitLookup);
+  glUniform1i(p.useLookup, distorted ? 1 : 0);
   gpu::bindUnit(kUnitTileLists, GL_TEXTURE_2D, cullingThisFrame_ ? tileLists_.id() : 0);
-  glUniform1i(p.uniform("u_tileLists"), kUnitTileLists);
+  glUniform1i(p.tileLists, kUnitTileLists);
   gpu::bindUnit(kUnitViewBuilding, GL_TEXTURE_2D, viewBuilding_.id());
   gpu::bindUnit(kUnitValidity, GL_TEXTURE_2D, validityTexture_.id());
-  glUniform1i(p.uniform("u_viewBuilding"), kUnitViewBuilding);
+  glUniform1i(p.viewBuilding, kUnitViewBuilding);
   if (points) gpu::bindUnit(kUnitPointColor, GL_TEXTURE_2D, pointColor_.id());  // naive: photographs from unit 8 up
   // Without points the sampler points at a unit of the same type that is never read.
-  glUniform1i(p.uniform("u_pointColor"), points ? kUnitPointColor : kUnitLookup);
-  glUniform1i(p.uniform("u_points"), points ? 1 : 0);
-  glUniform1f(p.uniform("u_meshPushBack"), float(f.meshPushBack));
-  glUniform1i(p.uniform("u_validity"), kUnitValidity);
-  glUniform1i(p.uniform("u_validityWidth"), validityWidth_);
-  glUniform1i(p.uniform("u_culling"), cullingThisFrame_ ? 1 : 0);
-  glUniform1i(p.uniform("u_tileSize"), f.tileSize);
-  glUniform1i(p.uniform("u_tilesX"), tilesX_);
-  glUniform2f(p.uniform("u_viewRectMin"), float(vf.pxMin.x), float(vf.pxMin.y));
-  glUniform2f(p.uniform("u_viewRectInvSize"), float(1.0 / (vf.pxMax.x - vf.pxMin.x)),
+  glUniform1i(p.pointColor, points ? kUnitPointColor : kUnitLookup);
+  glUniform1i(p.points, points ? 1 : 0);
+  glUniform1f(p.meshPushBack, float(f.meshPushBack));
+  glUniform1i(p.validity, kUnitValidity);
+  glUniform1i(p.validityWidth, validityWidth_);
+  glUniform1i(p.culling, cullingThisFrame_ ? 1 : 0);
+  glUniform1i(p.tileSize, f.tileSize);
+  glUniform1i(p.tilesX, tilesX_);
+  glUniform2f(p.viewRectMin, float(vf.pxMin.x), float(vf.pxMin.y));
+  glUniform2f(p.viewRectInvSize, float(1.0 / (vf.pxMax.x - vf.pxMin.x)),
               float(1.0 / (vf.pxMax.y - vf.pxMin.y)));
-  glUniform2i(p.uniform("u_viewDepthSize"), f.rect.depthSize.x, f.rect.depthSize.y);
-  glUniform1f(p.uniform("u_viewNear"), float(vf.near));
-  glUniform1f(p.uniform("u_viewFar"), float(vf.far));
-  glUniform1f(p.uniform("u_sphereRadius"), float(f.sphereRadius));
+  glUniform2i(p.viewDepthSize, f.rect.depthSize.x, f.rect.depthSize.y);
+  glUniform1f(p.viewNear, float(vf.near));
+  glUniform1f(p.viewFar, float(vf.far));
+  glUniform1f(p.sphereRadius, float(f.sphereRadius));
   const glm::dvec3 c = view.center - f.origin;
-  glUniform3f(p.uniform("u_viewCenter"), float(c.x), float(c.y), float(c.z));
-  gpu::uploadMat3(p.uniform("u_viewDirFromPix"), glm::transpose(view.camFromWorld) * view.camFromPix());
-  glUniform1i(p.uniform("u_imageCount"), GLint(f.params.size()));
-  glUniform1i(p.uniform("u_method"), f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
-  glUniform1i(p.uniform("u_occlusion"), f.blend.occlusion ? 1 : 0);
-  glUniform1i(p.uniform("u_debugImage"), f.debug.image);
-  glUniform3f(p.uniform("u_background"), float(f.background.r), float(f.background.g), float(f.background.b));
+  glUniform3f(p.viewCenter, float(c.x), float(c.y), float(c.z));
+  gpu::uploadMat3(p.viewDirFromPix, glm::transpose(view.camFromWorld) * view.camFromPix());
+  glUniform1i(p.imageCount, GLint(f.params.size()));
+  glUniform1i(p.method, f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+  glUniform1i(p.occlusion, f.blend.occlusion ? 1 : 0);
+  glUniform1i(p.debugImage, f.debug.image);
+  glUniform3f(p.background, float(f.background.r), float(f.background.g), float(f.background.b));
 }
 
 }  // namespace hv::render::gl

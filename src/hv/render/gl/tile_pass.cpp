@@ -28,11 +28,11 @@ void GlBackend::tileListPass(const Frame& f, ViewPassStats& stats) {
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   gpu::checkFramebuffer("tile depth ranges");
   glViewport(0, 0, tiles.x, tiles.y);
-  tileDepthProgram_.use();
+  tileDepthProgram_.program.use();
   gpu::bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth_.id());
-  glUniform1i(tileDepthProgram_.uniform("u_viewDepth"), kUnitViewDepth);
-  glUniform2i(tileDepthProgram_.uniform("u_depthSize"), f.rect.depthSize.x, f.rect.depthSize.y);
-  glUniform1i(tileDepthProgram_.uniform("u_tileSize"), grid.tileSize);
+  glUniform1i(tileDepthProgram_.viewDepth, kUnitViewDepth);
+  glUniform2i(tileDepthProgram_.depthSize, f.rect.depthSize.x, f.rect.depthSize.y);
+  glUniform1i(tileDepthProgram_.tileSize, grid.tileSize);
   glBindVertexArray(emptyVao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
