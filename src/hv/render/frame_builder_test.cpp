@@ -5,6 +5,7 @@
 #include "hv/render/frame_builder.h"
 
 #include "hv/image/png_write.h"
+#include "hv/points/chunks.h"
 #include "hv/render/null_backend.h"
 
 #include <gtest/gtest.h>
@@ -48,6 +49,18 @@ class FrameBuilderTest : public ::testing::Test {
     settings_.depthSize = 64;
   }
   void TearDown() override { fs::remove_all(dir_); }
+
+  // A 100 x 100 grid of ground points (class 2), 1 m apart, organised into chunks.
+  void addGroundPoints() {
+    PointCloud& c = scene_.points;
+    c.sourcePath = "ground.las";
+    c.resize(10000, PointFields{false, true, false, false});
+    for (int i = 0; i < 10000; ++i) {
+      c.positions[size_t(i)] = {i % 100 - 50.0, i / 100 - 50.0, 0.0};
+      c.classification[size_t(i)] = 2;
+    }
+    organizeChunks(c);
+  }
 
   // Above the centre, looking down at it: every photograph sees part of the view.
   static Camera view() { return lookAtCamera("view", {0, -1, 60}, {0, 0, 0}, 64, 48, 50.0); }
@@ -264,6 +277,62 @@ TEST_F(FrameBuilderTest, NaiveBindingSlotsFollowTheFreeTextureUnits) {
   const Frame f = builder.build(view(), FrameMode::Batch, false);
   EXPECT_EQ(f.params.size(), 3u);
   EXPECT_FALSE(f.culling);  // the naive baseline walks every image
+}
+
+TEST_F(FrameBuilderTest, PointsRespectTheBudgetAndShareTheDepthMapsOnlyWithClassification) {
+  addGroundPoints();
+  settings_.points.enabled = true;
+  settings_.points.budget = 2500;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  EXPECT_EQ(backend_.points, 10000u);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  ASSERT_TRUE(f.points.enabled);
+  EXPECT_GT(f.points.pass.points, 0u);
+  EXPECT_LE(f.points.pass.points, 2500u);
+  std::uint64_t sum = 0;
+  for (const PointDraw& d : f.points.pass.draws) sum += d.count;
+  EXPECT_EQ(sum, f.points.pass.points);
+  EXPECT_EQ(builder.stats().pointsDrawn, f.points.pass.points);
+  // Classified cloud, Auto filter: the classification filter, ground (2) kept, and the kept
+  // points drawn into every depth map, transient ones dropped there.
+  EXPECT_TRUE(f.points.pass.classify);
+  EXPECT_EQ(f.points.pass.keptClasses[0] & (1u << 2), 1u << 2);
+  ASSERT_EQ(backend_.depthMaps.size(), size_t(kPhotos));
+  for (const DepthMapJob& job : backend_.depthMaps) {
+    EXPECT_TRUE(job.withPoints);
+    EXPECT_TRUE(job.points.dropTransient);
+    EXPECT_LE(job.points.points, 2500u);
+  }
+  // Changing the kept classes changes what the depth maps hold: every one is redrawn.
+  settings_.points.keptClasses = {2};
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(2 * kPhotos));
+  // The epsilon filter keeps the points out of the depth maps: redrawn once more, without them.
+  settings_.points.filter = PointFilter::Epsilon;
+  const Frame e = builder.build(view(), FrameMode::Batch, false);
+  ASSERT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));
+  EXPECT_FALSE(backend_.depthMaps.back().withPoints);
+  EXPECT_TRUE(e.points.epsilonTest);
+  // A sprite setting of the view alone (eye-dome lighting) redraws nothing.
+  settings_.points.eyeDome = false;
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));
+}
+
+TEST_F(FrameBuilderTest, PointsSwitchedOnLaterAreUploadedOnceAndRedrawTheDepthMaps) {
+  addGroundPoints();
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.points, 0u);
+  settings_.points.enabled = true;
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.points, 10000u);
+  // The points extend the bounds (depth ranges) and share the depth maps: all redrawn.
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(2 * kPhotos));
+  settings_.points.enabled = false;
+  const Frame off = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_FALSE(off.points.enabled);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));  // the maps lose the points
 }
 
 }  // namespace
