@@ -81,6 +81,31 @@ inline Texture makeFloatData(int w, int h, const float* data = nullptr) {
   return t;
 }
 
+// Attachments of the bound framebuffer (GL_FRAMEBUFFER): a 2D texture, or 0 to detach.
+inline void attachColour(GLuint texture) {
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+}
+inline void attachDepth(GLuint texture) {
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, texture, 0);
+}
+// Fragments write colour attachment 0, or no colour at all (depth-only passes).
+inline void drawToColour() {
+  const GLenum colour0 = GL_COLOR_ATTACHMENT0;
+  glDrawBuffers(1, &colour0);
+}
+inline void drawToNoColour() {
+  const GLenum none = GL_NONE;
+  glDrawBuffers(1, &none);
+}
+
+// One full-screen triangle (shaders/fullscreen.vert makes its vertices from gl_VertexID), drawn
+// with an empty vertex array.
+inline void drawFullscreen(const VertexArray& emptyVao) {
+  glBindVertexArray(emptyVao.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
 // Binds `id` to texture unit `unit` and leaves unit 0 active (where uploads bind their textures).
 inline void bindUnit(int unit, GLenum target, GLuint id) {
   glActiveTexture(GLenum(GL_TEXTURE0 + unit));

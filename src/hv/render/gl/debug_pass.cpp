@@ -68,9 +68,7 @@ Image16 GlBackend::depthMapView(const Frame& f, ViewPassStats& stats) {
     glUniform1f(p.slice, float(slot));
     glUniform2f(p.rectMin, float(rectMin.x), float(rectMin.y));
     glUniform2f(p.rectSize, float(rect.x), float(rect.y));
-    glBindVertexArray(emptyVao_.id());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
+    gpu::drawFullscreen(emptyVao_);
     const Image8 enc = readColour(w, h);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {

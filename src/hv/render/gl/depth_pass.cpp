@@ -49,11 +49,10 @@ void GlBackend::drawDepthMap(const DepthMapJob& job) {
   const int slot = job.slot;
   glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_.id());
   if (naive())
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, naiveDepths_[size_t(slot)].id(), 0);
+    gpu::attachDepth(naiveDepths_[size_t(slot)].id());
   else
     glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray_.id(), 0, slot);
-  const GLenum none = GL_NONE;
-  glDrawBuffers(1, &none);
+  gpu::drawToNoColour();
   glReadBuffer(GL_NONE);
   gpu::checkFramebuffer("depth map");
   glViewport(0, 0, job.size, job.size);
@@ -87,10 +86,9 @@ void GlBackend::viewDepthPass(const Frame& f) {
   const glm::ivec2 depthSz = f.rect.depthSize;
   ensureViewTargets(depthSz, {f.view.width, f.view.height});
   glBindFramebuffer(GL_FRAMEBUFFER, viewFbo_.id());
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, viewBuilding_.id(), 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, viewDepth_.id(), 0);
-  const GLenum color0 = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &color0);
+  gpu::attachColour(viewBuilding_.id());
+  gpu::attachDepth(viewDepth_.id());
+  gpu::drawToColour();
   gpu::checkFramebuffer("view depth");
   glViewport(0, 0, depthSz.x, depthSz.y);
   const GLfloat noBuilding[4] = {0, 0, 0, 0};

@@ -154,9 +154,7 @@ void GlBackend::finishDepthMaps() { glFinish(); }
 
 Image8 GlBackend::shade(ShadeMode mode, int w, int h, bool readBack) {
   glUniform1i(shadeProgram_.mode, mode);
-  glBindVertexArray(emptyVao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  gpu::drawFullscreen(emptyVao_);
   if (!readBack) return {};
   return readColour(w, h);
 }
@@ -172,10 +170,9 @@ RenderOutput GlBackend::runViewPasses(const Frame& f, ViewPassStats& stats) {
   if (cullingThisFrame_) tileListPass(f, stats);
 
   // Shading pass into the colour target.
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, viewColor_.id(), 0);
-  const GLenum color0 = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &color0);
+  gpu::attachDepth(0);
+  gpu::attachColour(viewColor_.id());
+  gpu::drawToColour();
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   gpu::checkFramebuffer("view colour");
   glViewport(0, 0, view.width, view.height);

@@ -41,7 +41,7 @@ void GlBackend::frustaPass(const Frame& f) {
   if (!linesProgram_.program.id()) {
     linesProgram_ = LinesProgram(programs().lines);
   }
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, viewDepth_.id(), 0);
+  gpu::attachDepth(viewDepth_.id());
   gpu::checkFramebuffer("frusta");
   const LinesProgram& p = linesProgram_;
   p.program.use();
@@ -76,7 +76,7 @@ void GlBackend::frustaPass(const Frame& f) {
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
+  gpu::attachDepth(0);
   gpu::checkGlError("frusta");
 }
 

@@ -66,8 +66,7 @@ void GlBackend::viewPointsPass(const Frame& f) {
   const ibr::PinholeFrustum& vf = f.rect.frustum;
   const glm::ivec2 depthSz = f.rect.depthSize;
   const glm::dvec3 center = view.center - f.origin;
-  const GLenum none = GL_NONE, color0 = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &none);
+  gpu::drawToNoColour();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -78,9 +77,9 @@ void GlBackend::viewPointsPass(const Frame& f) {
     pointColor_ = gpu::makeRgba8Target(depthSz.x, depthSz.y);
     pointColorSize_ = depthSz;
   }
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, pointColor_.id(), 0);
-  glDrawBuffers(1, &color0);
+  gpu::attachDepth(0);
+  gpu::attachColour(pointColor_.id());
+  gpu::drawToColour();
   gpu::checkFramebuffer("point colour");
   const GLfloat clear[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, clear);

@@ -21,10 +21,9 @@ void GlBackend::tileListPass(const Frame& f, ViewPassStats& stats) {
     tileRange_ = gpu::makeRgba8Target(tiles.x, tiles.y);
     tileRangeSize_ = tiles;
   }
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, 0, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tileRange_.id(), 0);
-  const GLenum color0 = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &color0);
+  gpu::attachDepth(0);
+  gpu::attachColour(tileRange_.id());
+  gpu::drawToColour();
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   gpu::checkFramebuffer("tile depth ranges");
   glViewport(0, 0, tiles.x, tiles.y);
@@ -33,9 +32,7 @@ void GlBackend::tileListPass(const Frame& f, ViewPassStats& stats) {
   glUniform1i(tileDepthProgram_.viewDepth, kUnitViewDepth);
   glUniform2i(tileDepthProgram_.depthSize, f.rect.depthSize.x, f.rect.depthSize.y);
   glUniform1i(tileDepthProgram_.tileSize, grid.tileSize);
-  glBindVertexArray(emptyVao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  gpu::drawFullscreen(emptyVao_);
   std::vector<std::uint8_t> rgba(size_t(tiles.x) * tiles.y * 4);
   glReadPixels(0, 0, tiles.x, tiles.y, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
   gpu::checkGlError("tile depth ranges");
