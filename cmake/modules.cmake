@@ -90,7 +90,13 @@ function(hv_define_modules)
   hv_module(io PORTABLE DIRS io DEPS camera scene util EXTERNAL json)
   hv_module(ibr PORTABLE DIRS ibr DEPS camera image scene util PRIVATE_EXTERNAL nanoflann stb)
   hv_module(gpu PORTABLE DIRS gpu DEPS image util EXTERNAL gles glm EXTRA_SOURCES ${HV_SHADER_CPP})
-  hv_module(render PORTABLE DIRS render DEPS ibr image scene util PRIVATE_DEPS camera gpu PRIVATE_EXTERNAL json)
+  # The renderer without GL: settings and their schema, the frame, the frame builder, the backend
+  # interface and the null backend (tested on the CPU). render/renderer.h is its API; the class is
+  # implemented in render_gl, over the GLES backend and its passes.
+  hv_module(render PORTABLE DIRS render EXCLUDE ".*/render/renderer\\.cpp$" DEPS camera ibr image scene util
+            PRIVATE_EXTERNAL json)
+  hv_module(render_gl PORTABLE DIRS render/gl EXTRA_SOURCES ${CMAKE_SOURCE_DIR}/src/hv/render/renderer.cpp
+            DEPS gpu render PRIVATE_DEPS camera ibr image scene util)
   hv_module(viewer PORTABLE DIRS viewer DEPS camera PRIVATE_DEPS scene)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
@@ -98,8 +104,9 @@ function(hv_define_modules)
   hv_module(io_native DIRS io/native io/native/private DEPS camera scene scene_native util PRIVATE_DEPS io
             PRIVATE_EXTERNAL gdal proj assimp pugixml json)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
-  hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native PRIVATE_EXTERNAL json)
-  hv_module(session DIRS session DEPS gpu render scene util PRIVATE_DEPS camera io io_native gpu_egl
+  hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native render_gl
+            PRIVATE_EXTERNAL json)
+  hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl
             PRIVATE_EXTERNAL cli11)
   hv_module(demo DIRS demo DEPS camera image scene scene_native PRIVATE_DEPS image_native io io_native
             PRIVATE_EXTERNAL json)

@@ -1,6 +1,7 @@
-// The renderer: consumes a FramePlan, moves data to the GPU and runs the passes
-// (docs/design.md, steps 2-5). Needs a current GLES 3.0 context (hv/gpu/context.h); owns no
-// platform code, so the same class serves `render`, `eval`, the viewer and the browser.
+// The renderer: builds each frame in plain C++ (render/frame_builder.h) and runs its passes on the
+// GLES backend (render/gl/gl_backend.h); docs/design.md maps the steps to the papers. Needs a
+// current GLES 3.0 context (hv/gpu/context.h); owns no platform code, so the same class serves
+// `render`, `eval`, the viewer and the browser.
 #pragma once
 
 #include "hv/ibr/frame_plan.h"

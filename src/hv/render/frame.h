@@ -1,0 +1,157 @@
+// One frame in plain C++: what the frame builder
+// (render/frame_builder.h) decides and a GPU backend (render/backend.h) executes. Which
+// photographs texture the view and with which weights (Brédif 2013 eq. 2), the depth maps to draw
+// (de Castro & Brédif 2022 §2.2: at most Dmax per progressive frame, nearest camera first), the
+// packed per-image parameters, the point chunks each pass draws, and which view passes run. No GL
+// here: the frame logic is tested on the CPU through the null backend (render/null_backend.h).
+#pragma once
+
+#include "hv/ibr/frame_plan.h"
+#include "hv/render/renderer.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace hv::render {
+
+// The geometry layers, in the order the geometry buffer holds them (one index buffer).
+enum Layer { kLayerTerrain, kLayerBuildings, kLayerMesh, kLayerCount };
+
+// Index range of one layer in the index buffer, or of one photograph's lines in the frustum buffer.
+struct DrawRange {
+  int first = 0, count = 0;
+};
+
+// The scene's surfaces as the GPU holds them (built once by the frame builder). Per vertex:
+// render-frame position (3), the days its surface existed (2, ibr::gpuDays), building index + 1.
+struct GeometryBuffers {
+  static constexpr int kStride = 6;
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+  std::array<DrawRange, kLayerCount> layers;
+  // Building validity (days), one RGBA32F texel per building index, rows of validityWidth.
+  std::vector<float> validity;
+  int validityWidth = 1, validityRows = 1;
+};
+
+// Per point in the GPU buffer: render-frame position, normal (0 when none), colour + class.
+struct PointVertex {
+  float position[3];
+  float normal[3];
+  std::uint8_t color[4];
+};
+static_assert(sizeof(PointVertex) == 28);
+
+// One chunk's prefix of points, drawn with one sprite radius (scene units).
+struct PointDraw {
+  std::uint32_t first = 0, count = 0;
+  float radius = 0.0f;
+};
+
+// The sprites one camera draws (hv::selectChunks within the budget) and how they are filtered.
+struct PointPass {
+  std::vector<PointDraw> draws;
+  std::uint64_t points = 0;       // sum of the draws' counts
+  bool classify = false;          // the classification filter applies (u_classify)
+  std::array<std::uint32_t, 8> keptClasses{};  // 256-bit mask of PointSettings::keptClasses
+  bool dropTransient = false;
+  double depthOffset = 0.0;       // the mesh pushed back behind the points (hybrid, 2016 §4.2)
+};
+
+// One photograph's depth map to draw into its slot.
+struct DepthMapJob {
+  int slot = -1;
+  int photo = -1;
+  Camera camera;                  // as projected (without its distortion when the lens layer is off)
+  ibr::PinholeFrustum frustum;    // the ideal rectangle covering its image, its depth range
+  glm::dmat4 clipFromRender{1.0};
+  int size = 0;                   // the map's side, texels
+  glm::dvec3 centerRender{0.0};
+  DateInterval date;              // surfaces outside it are left out (scene validity)
+  double pushBack = 0.0;          // the mesh pushed back behind the points
+  std::array<bool, kLayerCount> layers{true, true, true};
+  bool withPoints = false;        // non-transient points refine the occlusion (2016 §4.2, 2022 §2.4)
+  PointPass points;
+};
+
+// The view's rectangle: linear depth is drawn over the pinhole rectangle covering the (distorted)
+// view, at the output's pixel density.
+struct ViewRect {
+  ibr::PinholeFrustum frustum;
+  glm::dmat4 clipFromRender{1.0};
+  glm::ivec2 depthSize{0};        // view-depth target
+  bool distorted = false;
+};
+
+// The point pass of the view (PointSettings), when the points are drawn.
+struct ViewPoints {
+  bool enabled = false;
+  PointPass pass;                 // into the view depth, then the winners' colours
+  bool epsilonTest = false;
+  double epsilon = 0.0;           // scene units
+  bool eyeDome = false;
+  double eyeDomeStrength = 0.0, eyeDomeRadiusPx = 0.0;
+};
+
+// The photographs' frusta as line segments (camera::frustumOutline), render frame, a range of
+// vertices per photograph; `version` changes when they are rebuilt (depth or lens model changed).
+struct FrustumLines {
+  std::vector<float> xyz;
+  std::vector<DrawRange> perPhoto;
+  std::uint64_t version = 0;
+};
+
+// What the DebugView::DepthMap view and the frusta overlay show.
+struct DebugPass {
+  DebugView view = DebugView::None;
+  int photo = -1;
+  int slot = -1;                  // the depth-map view's slot (-1: none to show)
+  ibr::PinholeFrustum slotFrustum;
+  int image = -1;                 // debug.photo's index among the frame's images
+  bool frusta = false;            // the overlay (never over the DepthMap view)
+  const FrustumLines* frustumLines = nullptr;  // when frusta: owned by the builder
+};
+
+struct Frame {
+  std::uint64_t number = 0;       // 1 for the first frame
+  FrameMode mode = FrameMode::Batch;
+  Camera view;
+  glm::dvec3 origin{0.0};         // the render frame's origin (world): Scene::origin
+  ibr::BlendSettings blend;       // as planned: K capped by the slots
+  ibr::FramePlan plan;
+  std::vector<int> slots;         // per plan.images: its slot, -1 while its decode is pending
+  // The dirty depth maps this frame may draw, in order (nearest camera first), at most Dmax in a
+  // progressive frame; a time budget may stop before the end (RenderSettings::depthBudgetMs).
+  std::vector<int> depthMapQueue;
+  bool depthBudgeted = false;
+  std::vector<int> depthMapsDrawn;  // what was drawn, the debug photograph's map included
+
+  // The images the shader blends, in order, and their packed rows (ibr::packImageParams).
+  std::vector<ibr::ImageParams> params;
+  std::vector<float> packedParams;
+
+  ViewRect rect;
+  std::array<bool, kLayerCount> layers{true, true, true};
+  ViewPoints points;
+  bool culling = false;           // per-tile image lists (ibr/tile_culling.h)
+  int tileSize = 16;
+  double meshPushBack = 0.0;      // in the mesh's shadow test (points share the depth maps)
+  double sphereRadius = 0.0;      // background sphere, 0: none
+  glm::dvec3 background{0.0};
+  DebugPass debug;
+  bool withCounts = false;        // counts and loop lengths read back
+  bool readBackColour = true;
+};
+
+// What the view passes report back.
+struct ViewPassStats {
+  bool tileListsBuilt = false;    // the tile statistics below are this frame's
+  double meanTileList = 0.0;
+  int maxTileList = 0;
+  double debugDepthNear = 0.0, debugDepthFar = 0.0;
+};
+
+}  // namespace hv::render

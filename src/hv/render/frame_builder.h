@@ -1,0 +1,130 @@
+// The frame builder: turns (scene, view camera, settings, what is resident) into a Frame
+// (render/frame.h) and drives a Backend (render/backend.h) through it. It owns everything about a
+// frame that is not drawing: the plan (ibr::planFrame), residency (ibr::SlotCache, the decodes of
+// ibr::ImageLoader), the depth-map schedule and its per-frame budget (ibr::DepthMapScheduler;
+// de Castro & Brédif 2022 §2.2), the per-image parameters, the point chunks each pass draws, the
+// statistics, and what a changed setting invalidates. No GL: tested through the null backend.
+#pragma once
+
+#include "hv/ibr/depth_scheduler.h"
+#include "hv/ibr/image_loader.h"
+#include "hv/ibr/slot_cache.h"
+#include "hv/render/backend.h"
+#include "hv/render/frame.h"
+#include "hv/util/diagnostics.h"
+
+#include <memory>
+#include <vector>
+
+namespace hv::render {
+
+class FrameBuilder {
+ public:
+  // Builds the geometry (and, when enabled, the points) and allocates the slots on `backend`.
+  // `settings` is the renderer's: a change applies from the next frame.
+  FrameBuilder(const Scene& scene, const RenderSettings& settings, Diagnostics& diag, Backend& backend);
+  ~FrameBuilder();
+  FrameBuilder(const FrameBuilder&) = delete;
+  FrameBuilder& operator=(const FrameBuilder&) = delete;
+
+  // One frame: applies the live settings, plans, makes the images resident (batch: waiting for
+  // their decodes), draws the scheduled depth maps on the backend and packs the parameters. The
+  // view passes are left to the caller (Backend::runViewPasses).
+  Frame build(const Camera& view, FrameMode mode, bool withCounts);
+  // The stats the view passes report, merged into stats().
+  void viewPassesDone(const Frame& frame, const ViewPassStats& passStats);
+  // Makes the images a view needs resident without building a frame.
+  void preload(const Camera& view);
+
+  bool converged() const { return stats_.imagesWaiting == 0 && !debugWaiting_; }
+  const ibr::FramePlan& lastPlan() const { return plan_; }
+  const std::vector<ibr::ImageParams>& lastImageParams() const { return params_; }
+  ibr::SliceSize sliceSize() const { return layout_.slice; }
+  int slotCount() const { return layout_.slots; }
+  RenderStats& stats() { return stats_; }
+  const RenderStats& stats() const { return stats_; }
+  PhotoState photoState(int photo) const;
+  int slotOf(int photo) const { return cache_.slotOf(photo); }
+  // The job that draws the depth map of the photograph in `slot` with the current settings.
+  DepthMapJob depthMapJob(int slot) const;
+
+ private:
+  // What the photographs' depth maps are drawn from besides the scene itself: when it changes
+  // between frames every depth map is redrawn (a layer, the lens model, the points they hold).
+  struct DepthMapInputs {
+    std::array<bool, kLayerCount> layers{true, true, true};
+    bool lensDistortion = true;
+    bool points = false;
+    std::uint64_t pointBudget = 0;
+    double pointRadius = 0.0, pointRadiusScale = 0.0;
+    std::vector<int> keptClasses;
+    double meshPushBack = 0.0;
+    bool operator==(const DepthMapInputs&) const = default;
+  };
+
+  void buildGeometry();
+  void initPoints();
+  void resolvePointFilter();
+  void allocateSlots();
+  void install(ibr::LoadResult&& r, bool neededNow);
+  bool makeResident(FrameMode mode);
+  void planAndLoad(const Camera& view, ibr::BlendSettings& blend, FrameMode mode);
+  ibr::BlendSettings frameBlendSettings();
+  int prepareDebugPhoto(FrameMode mode);
+  void drawDepthMaps(Frame& frame, int debugSlot);
+  void packParams(Frame& frame);
+  void applyLiveSettings();
+  void invalidateDepthMaps();
+  void reloadPhotographs();
+  std::unique_ptr<ibr::ImageLoader> makeLoader() const;
+  const FrustumLines& frustumLines();
+
+  Camera photoCamera(int photo) const;
+  ibr::PinholeFrustum depthFrustum(int photo) const;
+  DepthMapInputs depthMapInputs() const;
+  std::vector<std::string> excludedIds() const;
+  PointPass pointPass(const Camera& cam, bool dropTransient, double depthOffset) const;
+  bool naive() const { return settings_.binding == Binding::Naive; }
+  bool pointsActive() const { return pointsOn_ && settings_.points.enabled; }
+  double meshPushBack() const;
+  double meshOffset() const;
+  double pointEpsilon() const;
+  double depthBiasAbsolute() const;
+  double sphereRadius() const;
+
+  const Scene& scene_;
+  const RenderSettings& settings_;
+  Diagnostics& diag_;
+  Backend& backend_;
+  BackendLimits limits_;
+  ibr::CameraIndex index_;
+  Aabb bounds_;          // geometry and camera centres: depth ranges
+  Aabb geometryBounds_;  // geometry only: the frustum filter
+
+  SlotLayout layout_;
+  ibr::SlotCache cache_;
+  std::unique_ptr<ibr::ImageLoader> loader_;
+  bool loaderMasks_ = true;
+  ibr::DepthMapScheduler depthScheduler_;
+  std::vector<ibr::PinholeFrustum> slotFrustum_;
+  std::vector<bool> photoBroken_;
+  DepthMapInputs depthInputs_;
+  std::uint64_t frame_ = 0;
+
+  // The points (uploaded on first use).
+  bool pointsTried_ = false, pointsOn_ = false;
+  bool classify_ = false, epsilonTest_ = false, pointsInDepthMaps_ = false;
+  bool warnedPointClasses_ = false, warnedMat3_ = false;
+  int mat3K_ = 0;
+  std::vector<double> chunkSpacing_;  // mean point spacing of each chunk, scene units
+
+  ibr::FramePlan plan_;
+  std::vector<ibr::ImageParams> params_;
+  RenderStats stats_;
+  bool debugWaiting_ = false;  // the depth-map view's photograph is still being decoded
+  FrustumLines frustumLines_;
+  double frustumDepthBuilt_ = -1.0;
+  bool frustumLensBuilt_ = true;
+};
+
+}  // namespace hv::render

@@ -1,0 +1,339 @@
+// The frame logic on the CPU, through the null backend: what the builder asks the backend to do
+// frame after frame (uploads, depth maps, view passes) and the statistics the viewer shows. The
+// expected values come from the scene's construction (distances computed here, ceil(T / Dmax)
+// written out), not from the code under test.
+#include "hv/render/frame_builder.h"
+
+#include "hv/image/native/png_write.h"
+#include "hv/scene/chunks.h"
+#include "hv/render/null_backend.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+
+namespace hv::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kPhotos = 10;
+
+class FrameBuilderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("hv_frame_builder_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A 200 m square of ground at z = 0.
+    scene_.terrain.positions = {{-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0}};
+    scene_.terrain.triangles = {{0, 1, 2}, {0, 2, 3}};
+    // Photographs on a spiral around the centre, all looking at it, each farther from the view
+    // than the one before (radius 30 + 7 i m, 20 m up).
+    for (int i = 0; i < kPhotos; ++i) {
+      const double a = 0.6 * i, r = 30.0 + 7.0 * i;
+      Photo p;
+      p.camera = lookAtCamera("p" + std::to_string(i), {r * std::cos(a), r * std::sin(a), 20.0}, {0, 0, 0}, 32, 24, 30.0);
+      Image8 im(32, 24, 3, std::uint8_t(20 * i));
+      p.imagePath = (dir_ / (p.camera.id + ".png")).string();
+      writePng(p.imagePath, im);
+      scene_.photos.push_back(p);
+    }
+    settings_.blend.k = kPhotos;
+    settings_.decodeThreads = 0;  // decodes on this thread: one per progressive frame, deterministic
+    settings_.depthSize = 64;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // A 100 x 100 grid of ground points (class 2), 1 m apart, organised into chunks.
+  void addGroundPoints() {
+    PointCloud& c = scene_.points;
+    c.sourcePath = "ground.las";
+    c.resize(10000, PointFields{false, true, false, false});
+    for (int i = 0; i < 10000; ++i) {
+      c.positions[size_t(i)] = {i % 100 - 50.0, i / 100 - 50.0, 0.0};
+      c.classification[size_t(i)] = 2;
+    }
+    organizeChunks(c);
+  }
+
+  // Above the centre, looking down at it: every photograph sees part of the view.
+  static Camera view() { return lookAtCamera("view", {0, -1, 60}, {0, 0, 0}, 64, 48, 50.0); }
+
+  // The photographs by distance from the view's centre, nearest first.
+  std::vector<int> byDistance() const {
+    std::vector<int> order(kPhotos);
+    std::iota(order.begin(), order.end(), 0);
+    const glm::dvec3 c = view().center;
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return glm::length(scene_.photos[a].camera.center - c) < glm::length(scene_.photos[b].camera.center - c);
+    });
+    return order;
+  }
+
+  std::vector<int> photosDrawn(size_t from) const {
+    std::vector<int> photos;
+    for (size_t i = from; i < backend_.depthMaps.size(); ++i) photos.push_back(backend_.depthMaps[i].photo);
+    return photos;
+  }
+
+  fs::path dir_;
+  Scene scene_;
+  RenderSettings settings_;
+  Diagnostics diag_;
+  NullBackend backend_;
+};
+
+TEST_F(FrameBuilderTest, BatchFrameLoadsAndDrawsEverySelectedImage) {
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(f.plan.images.size(), size_t(kPhotos));
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos));
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(kPhotos));
+  EXPECT_EQ(f.params.size(), size_t(kPhotos));
+  EXPECT_EQ(f.packedParams.size(), size_t(kPhotos) * ibr::kTexelsPerImage * 4);
+  EXPECT_EQ(builder.stats().imagesWaiting, 0);
+  EXPECT_EQ(builder.stats().depthMapsThisFrame, kPhotos);
+  EXPECT_TRUE(builder.converged());
+  // Every map is drawn into the slot its photograph was uploaded to, at the requested size.
+  for (const DepthMapJob& job : backend_.depthMaps) {
+    EXPECT_EQ(job.slot, builder.slotOf(job.photo));
+    EXPECT_EQ(job.size, 64);
+  }
+  // A second frame of the same view loads and draws nothing.
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos));
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(kPhotos));
+}
+
+TEST_F(FrameBuilderTest, ProgressiveFramesConvergeInCeilTOverDmaxNearestFirst) {
+  settings_.depthMapsPerFrame = 3;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.preload(view());  // every image resident, no depth map drawn yet
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos));
+  EXPECT_TRUE(backend_.depthMaps.empty());
+  const std::vector<int> order = byDistance();
+  // T = 10 maps at Dmax = 3: 3 + 3 + 3 + 1, converged after ceil(10 / 3) = 4 frames.
+  const int drawnPerFrame[] = {3, 3, 3, 1};
+  const int waitingAfter[] = {7, 4, 1, 0};
+  size_t drawn = 0;
+  for (int frame = 0; frame < 4; ++frame) {
+    if (frame > 0) EXPECT_FALSE(builder.converged());
+    const Frame f = builder.build(view(), FrameMode::Progressive, false);
+    ASSERT_EQ(f.depthMapsDrawn.size(), size_t(drawnPerFrame[frame])) << "frame " << frame;
+    const std::vector<int> expected(order.begin() + std::ptrdiff_t(drawn),
+                                    order.begin() + std::ptrdiff_t(drawn + drawnPerFrame[frame]));
+    EXPECT_EQ(photosDrawn(drawn), expected) << "frame " << frame;
+    drawn += size_t(drawnPerFrame[frame]);
+    EXPECT_EQ(builder.stats().depthMapsWaiting, waitingAfter[frame]);
+    EXPECT_EQ(builder.stats().imagesWaiting, waitingAfter[frame]);
+    EXPECT_EQ(builder.stats().decodesWaiting, 0);
+    // The images whose map is current are blended; the others wait.
+    EXPECT_EQ(f.params.size(), drawn);
+  }
+  EXPECT_TRUE(builder.converged());
+  EXPECT_EQ(ibr::framesToConverge(kPhotos, 3), 4);
+}
+
+TEST_F(FrameBuilderTest, ProgressiveFramesWaitForDecodes) {
+  // No preload, no decoding thread: each progressive frame decodes one photograph, nearest first.
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  const std::vector<int> order = byDistance();
+  for (int frame = 1; frame <= 3; ++frame) {
+    builder.build(view(), FrameMode::Progressive, false);
+    EXPECT_EQ(backend_.uploads.size(), size_t(frame));
+    EXPECT_EQ(builder.stats().decodesWaiting, kPhotos - frame);
+    EXPECT_EQ(builder.stats().depthMapsWaiting, 0);
+    EXPECT_EQ(builder.stats().imagesWaiting, kPhotos - frame);
+    EXPECT_EQ(builder.photoState(order[size_t(frame - 1)]), PhotoState::Ready);
+    EXPECT_FALSE(builder.converged());
+  }
+  EXPECT_EQ(builder.photoState(order.back()), PhotoState::Decoding);
+}
+
+TEST_F(FrameBuilderTest, DepthBudgetDrawsAtLeastOneMapAndFinishesEach) {
+  settings_.depthMapsPerFrame = 4;
+  settings_.depthBudgetMs = 1e-9;  // spent as soon as one map is drawn
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.preload(view());
+  const Frame f = builder.build(view(), FrameMode::Progressive, false);
+  EXPECT_EQ(f.depthMapQueue.size(), 4u);
+  EXPECT_EQ(f.depthMapsDrawn.size(), 1u);
+  EXPECT_EQ(backend_.finishes, 1);
+  EXPECT_EQ(builder.stats().depthMapsWaiting, kPhotos - 1);
+}
+
+TEST_F(FrameBuilderTest, GenerousDepthBudgetStopsAtDmax) {
+  settings_.depthMapsPerFrame = 4;
+  settings_.depthBudgetMs = 1e9;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.preload(view());
+  const Frame f = builder.build(view(), FrameMode::Progressive, false);
+  EXPECT_EQ(f.depthMapsDrawn.size(), 4u);
+  EXPECT_EQ(backend_.finishes, 4);
+}
+
+TEST_F(FrameBuilderTest, LayerSwitchRedrawsEveryDepthMapWithoutReloading) {
+  RenderSettings& s = settings_;
+  FrameBuilder builder(scene_, s, diag_, backend_);
+  builder.build(view(), FrameMode::Batch, false);
+  const size_t maps = backend_.depthMaps.size();
+  s.layers.buildings = false;
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos));
+  ASSERT_EQ(backend_.depthMaps.size(), maps + kPhotos);
+  for (size_t i = maps; i < backend_.depthMaps.size(); ++i) {
+    const auto& layers = backend_.depthMaps[i].layers;
+    EXPECT_TRUE(layers[kLayerTerrain] && !layers[kLayerBuildings] && layers[kLayerMesh]);
+  }
+  // Progressive: the switch makes every map wait again, Dmax redrawn per frame.
+  s.depthMapsPerFrame = 4;
+  s.layers.terrain = false;
+  builder.build(view(), FrameMode::Progressive, false);
+  EXPECT_EQ(builder.stats().depthMapsThisFrame, 4);
+  EXPECT_EQ(builder.stats().depthMapsWaiting, kPhotos - 4);
+}
+
+TEST_F(FrameBuilderTest, LensSwitchRedrawsEveryDepthMap) {
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.build(view(), FrameMode::Batch, false);
+  settings_.layers.lensDistortion = false;
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(2 * kPhotos));
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos));
+}
+
+TEST_F(FrameBuilderTest, MaskSwitchReloadsEveryPhotograph) {
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.build(view(), FrameMode::Batch, false);
+  settings_.blend.masks = false;
+  builder.build(view(), FrameMode::Batch, false);
+  // The slices hold the colour premultiplied by the mask: decoded and uploaded again, and their
+  // depth maps drawn again (a slot's map belongs to the photograph uploaded into it).
+  EXPECT_EQ(backend_.uploads.size(), size_t(2 * kPhotos));
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(2 * kPhotos));
+  EXPECT_EQ(builder.stats().imagesLoaded, 2 * kPhotos);
+}
+
+TEST_F(FrameBuilderTest, DebugViewAndBlendSettingsRedrawNothing) {
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.build(view(), FrameMode::Batch, false);
+  settings_.debug.view = DebugView::Counts;
+  settings_.debug.frusta = true;
+  settings_.blend.method = ibr::BlendMethod::Nearest;
+  settings_.background = {1, 0, 0};
+  const Frame f = builder.build(view(), FrameMode::Batch, true);
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos));
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(kPhotos));
+  // What the view passes are asked instead.
+  EXPECT_EQ(f.debug.view, DebugView::Counts);
+  ASSERT_NE(f.debug.frustumLines, nullptr);
+  EXPECT_EQ(f.debug.frustumLines->perPhoto.size(), size_t(kPhotos));
+  EXPECT_EQ(f.blend.method, ibr::BlendMethod::Nearest);
+  EXPECT_TRUE(f.withCounts);
+  EXPECT_EQ(f.background, glm::dvec3(1, 0, 0));
+}
+
+TEST_F(FrameBuilderTest, DepthMapDebugViewLoadsAndDrawsItsPhotographOutsideTheFrame) {
+  settings_.blend.k = 3;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  const int farthest = byDistance().back();
+  settings_.debug.view = DebugView::DepthMap;
+  settings_.debug.photo = farthest;
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(f.plan.images.size(), 3u);
+  // The three nearest and the debug photograph.
+  EXPECT_EQ(backend_.uploads.size(), 4u);
+  EXPECT_EQ(backend_.depthMaps.size(), 4u);
+  EXPECT_EQ(backend_.depthMaps.back().photo, farthest);
+  EXPECT_EQ(f.debug.slot, builder.slotOf(farthest));
+  EXPECT_EQ(f.debug.image, -1);  // not among the frame's images
+  EXPECT_FALSE(f.debug.frusta);  // never over the depth-map view
+}
+
+TEST_F(FrameBuilderTest, KBeyondTheSlotsIsCappedAndSaid) {
+  settings_.maxSlices = 4;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  EXPECT_EQ(backend_.layout().slots, 4);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(f.blend.k, 4);
+  EXPECT_EQ(f.plan.images.size(), 4u);
+  ASSERT_FALSE(diag_.warnings.empty());
+  EXPECT_NE(diag_.warnings.front().find("exceeds the image slots available (4"), std::string::npos);
+}
+
+TEST_F(FrameBuilderTest, NaiveBindingSlotsFollowTheFreeTextureUnits) {
+  settings_.binding = Binding::Naive;
+  BackendLimits limits;
+  limits.naiveImageUnits = 6;  // three images, two units each
+  NullBackend backend(limits);
+  FrameBuilder builder(scene_, settings_, diag_, backend);
+  EXPECT_EQ(backend.layout().slots, 3);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(f.params.size(), 3u);
+  EXPECT_FALSE(f.culling);  // the naive baseline walks every image
+}
+
+TEST_F(FrameBuilderTest, PointsRespectTheBudgetAndShareTheDepthMapsOnlyWithClassification) {
+  addGroundPoints();
+  settings_.points.enabled = true;
+  settings_.points.budget = 2500;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  EXPECT_EQ(backend_.points, 10000u);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  ASSERT_TRUE(f.points.enabled);
+  EXPECT_GT(f.points.pass.points, 0u);
+  EXPECT_LE(f.points.pass.points, 2500u);
+  std::uint64_t sum = 0;
+  for (const PointDraw& d : f.points.pass.draws) sum += d.count;
+  EXPECT_EQ(sum, f.points.pass.points);
+  EXPECT_EQ(builder.stats().pointsDrawn, f.points.pass.points);
+  // Classified cloud, Auto filter: the classification filter, ground (2) kept, and the kept
+  // points drawn into every depth map, transient ones dropped there.
+  EXPECT_TRUE(f.points.pass.classify);
+  EXPECT_EQ(f.points.pass.keptClasses[0] & (1u << 2), 1u << 2);
+  ASSERT_EQ(backend_.depthMaps.size(), size_t(kPhotos));
+  for (const DepthMapJob& job : backend_.depthMaps) {
+    EXPECT_TRUE(job.withPoints);
+    EXPECT_TRUE(job.points.dropTransient);
+    EXPECT_LE(job.points.points, 2500u);
+  }
+  // Changing the kept classes changes what the depth maps hold: every one is redrawn.
+  settings_.points.keptClasses = {2};
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(2 * kPhotos));
+  // The epsilon filter keeps the points out of the depth maps: redrawn once more, without them.
+  settings_.points.filter = PointFilter::Epsilon;
+  const Frame e = builder.build(view(), FrameMode::Batch, false);
+  ASSERT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));
+  EXPECT_FALSE(backend_.depthMaps.back().withPoints);
+  EXPECT_TRUE(e.points.epsilonTest);
+  // A sprite setting of the view alone (eye-dome lighting) redraws nothing.
+  settings_.points.eyeDome = false;
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));
+}
+
+TEST_F(FrameBuilderTest, PointsSwitchedOnLaterAreUploadedOnceAndRedrawTheDepthMaps) {
+  addGroundPoints();
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.points, 0u);
+  settings_.points.enabled = true;
+  builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(backend_.points, 10000u);
+  // The points extend the bounds (depth ranges) and share the depth maps: all redrawn.
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(2 * kPhotos));
+  settings_.points.enabled = false;
+  const Frame off = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_FALSE(off.points.enabled);
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));  // the maps lose the points
+}
+
+}  // namespace
+}  // namespace hv::render

@@ -1,0 +1,101 @@
+// Depth passes: each photograph's depth map in its slot (the shadow maps of Brédif 2013 §3, with
+// the surfaces its date rules out left out) and the view's own linear depth and building ids.
+#include "hv/render/gl/gl_backend.h"
+
+#include "hv/gpu/textures.h"
+
+namespace hv::render::gl {
+
+void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
+                          const DateInterval& date, const std::array<bool, kLayerCount>& layers, double pushBack,
+                          glm::dvec3 centerRender) {
+  program.program.use();
+  glUniform1f(program.pushBack, float(pushBack));
+  glUniform3f(program.center, float(centerRender.x), float(centerRender.y), float(centerRender.z));
+  gpu::uploadMat4(program.clipFromRender, clip);
+  glUniform1f(program.near, float(near));
+  glUniform1f(program.far, float(far));
+  const glm::vec2 days = ibr::gpuDays(date);
+  glUniform2f(program.date, days.x, days.y);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  glClearDepthf(1.0f);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  if (indexCount_ > 0) drawLayers(layers);
+  glDisable(GL_DEPTH_TEST);
+}
+
+// The geometry layers that are on, contiguous ranges in one draw.
+void GlBackend::drawLayers(const std::array<bool, kLayerCount>& on) {
+  glBindVertexArray(meshVao_.id());
+  for (int layer = 0; layer < kLayerCount;) {
+    if (!on[size_t(layer)]) {
+      ++layer;
+      continue;
+    }
+    const int first = layerRange_[size_t(layer)].first;
+    GLsizei count = 0;
+    for (; layer < kLayerCount && on[size_t(layer)]; ++layer) count += layerRange_[size_t(layer)].count;
+    if (count > 0)
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(std::uintptr_t(first) * sizeof(std::uint32_t)));
+  }
+  glBindVertexArray(0);
+}
+
+void GlBackend::drawDepthMap(const DepthMapJob& job) {
+  const int slot = job.slot;
+  glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_.id());
+  if (naive())
+    gpu::attachDepth(naiveDepths_[size_t(slot)].id());
+  else
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray_.id(), 0, slot);
+  gpu::drawToNoColour();
+  glReadBuffer(GL_NONE);
+  gpu::checkFramebuffer("depth map");
+  glViewport(0, 0, job.size, job.size);
+  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.layers, job.pushBack,
+            job.centerRender);
+  if (job.withPoints) {
+    // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    drawPoints(pointDepthProgram_, job.points, job.camera, job.frustum, {job.size, job.size}, job.centerRender);
+    glDisable(GL_DEPTH_TEST);
+  }
+}
+
+void GlBackend::ensureViewTargets(glm::ivec2 depthSz, glm::ivec2 colorSz) {
+  if (depthSz != viewDepthSize_) {
+    viewDepth_ = gpu::makeDepthTarget(depthSz.x, depthSz.y);
+    viewBuilding_ = gpu::makeRgba8Target(depthSz.x, depthSz.y);
+    viewDepthSize_ = depthSz;
+  }
+  if (colorSz != viewColorSize_) {
+    viewColor_ = gpu::makeRgba8Target(colorSz.x, colorSz.y);
+    viewColorSize_ = colorSz;
+  }
+  gpu::checkGlError("view targets");
+}
+
+// The view's linear depth over the pinhole rectangle covering the (distorted) view, and the
+// building under each pixel. Leaves viewFbo bound.
+void GlBackend::viewDepthPass(const Frame& f) {
+  const glm::ivec2 depthSz = f.rect.depthSize;
+  ensureViewTargets(depthSz, {f.view.width, f.view.height});
+  glBindFramebuffer(GL_FRAMEBUFFER, viewFbo_.id());
+  gpu::attachColour(viewBuilding_.id());
+  gpu::attachDepth(viewDepth_.id());
+  gpu::drawToColour();
+  gpu::checkFramebuffer("view depth");
+  glViewport(0, 0, depthSz.x, depthSz.y);
+  const GLfloat noBuilding[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, noBuilding);
+  // The view shows today's geometry: every surface, whatever its dates.
+  drawDepth(viewDepthProgram_, f.rect.clipFromRender, f.rect.frustum.near, f.rect.frustum.far, DateInterval{},
+            f.layers, 0.0, glm::dvec3(0.0));
+}
+
+}  // namespace hv::render::gl

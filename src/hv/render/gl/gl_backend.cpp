@@ -1,0 +1,200 @@
+#include "hv/render/gl/gl_backend.h"
+
+#include "hv/gpu/textures.h"
+#include "hv/render/gl/programs.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace hv::render::gl {
+
+using gpu::checkGlError;
+
+Image16 decodeCounts(const Image8& enc) {
+  Image16 out(enc.width, enc.height, 1);
+  for (int y = 0; y < enc.height; ++y)
+    for (int x = 0; x < enc.width; ++x) out.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
+  return out;
+}
+
+// Offscreen rows are stored top row first (docs/conventions.md): no flip.
+Image8 readColour(int w, int h) {
+  Image8 img(w, h, 4);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.data.data());
+  checkGlError("colour read-back");
+  return img;
+}
+
+GlBackend::GlBackend(Diagnostics& diag) : diag_(diag), limits_(gpu::queryLimits()) {
+  depthProgram_ = DepthProgram(programs().depth);
+  viewDepthProgram_ = DepthProgram(programs().viewDepth);
+  shadeProgram_ = ShadeProgram(programs().shade);  // replaced in allocateSlots for the naive binding
+  tileDepthProgram_ = TileDepthProgram(programs().tileDepth);
+  depthFbo_ = gpu::makeFramebuffer();
+  viewFbo_ = gpu::makeFramebuffer();
+  emptyVao_ = gpu::makeVertexArray();
+}
+
+BackendLimits GlBackend::limits() const {
+  BackendLimits l;
+  l.maxTextureSize = limits_.maxTextureSize;
+  l.maxArrayTextureLayers = limits_.maxArrayTextureLayers;
+  l.maxVaryingComponents = limits_.maxVaryingComponents;
+  l.maxTextureImageUnits = limits_.maxTextureImageUnits;
+  l.shadingUnits = kUnitValidity - kUnitParams + 1;
+  // The naive binding's images take the units the shading pass does not use itself (kUnitParams
+  // .. kUnitValidity are its own).
+  l.naiveImageUnits = 0;
+  for (GLint u = 0; u < limits_.maxTextureImageUnits; ++u)
+    if (u < kUnitParams || u > kUnitValidity) ++l.naiveImageUnits;
+  return l;
+}
+
+void GlBackend::uploadGeometry(const GeometryBuffers& g) {
+  layerRange_ = g.layers;
+  indexCount_ = int(g.indices.size());
+  meshVao_ = gpu::makeVertexArray();
+  vertexBuffer_ = gpu::makeBuffer();
+  indexBuffer_ = gpu::makeBuffer();
+  glBindVertexArray(meshVao_.id());
+  glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_.id());
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(g.vertices.size() * sizeof(float)), g.vertices.data(), GL_STATIC_DRAW);
+  const GLsizei stride = GeometryBuffers::kStride * sizeof(float);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer_.id());
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(g.indices.size() * sizeof(std::uint32_t)), g.indices.data(),
+               GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  validityWidth_ = g.validityWidth;
+  validityTexture_ = gpu::makeFloatData(g.validityWidth, g.validityRows, g.validity.data());
+  checkGlError("geometry upload");
+}
+
+PointProgramInfo GlBackend::uploadPoints(const std::vector<PointVertex>& vertices, const PointProgramRequest& req) {
+  pointVao_ = gpu::makeVertexArray();
+  pointBuffer_ = gpu::makeBuffer();
+  glBindVertexArray(pointVao_.id());
+  glBindBuffer(GL_ARRAY_BUFFER, pointBuffer_.id());
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(PointVertex)), vertices.data(), GL_STATIC_DRAW);
+  const GLsizei stride = sizeof(PointVertex);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(PointVertex, normal)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, stride,
+                        reinterpret_cast<const void*>(offsetof(PointVertex, color)));
+  glBindVertexArray(0);
+  checkGlError("point upload");
+
+  PointProgramInfo info;
+  GLfloat range[2] = {1.0f, 1.0f};
+  glGetFloatv(GL_ALIASED_POINT_SIZE_RANGE, range);
+  maxPointSize_ = float(std::max(1.0, std::min<double>(range[1], req.maxPointSizePx)));
+  info.maxPointSize = maxPointSize_;
+  pointDepthProgram_ = PointProgram(programs().pointDepth);
+  if (req.form == SpriteForm::Mat3) {
+    // Linking far beyond the varying limit can crash a driver's compiler (llvmpipe does at K = 40)
+    // instead of failing: start from what the limit allows, 9 components per image.
+    const int start = std::max(1, std::min(req.wantImages, limits_.maxVaryingComponents / 9));
+    for (int k = start; k >= 1 && info.mat3Images == 0; --k) {
+      try {
+        pointColorProgram_ = PointProgram(programs().pointColor, {"HV_MAT3_K=" + std::to_string(k)});
+        info.mat3Images = k;
+      } catch (const std::runtime_error&) {
+      }
+    }
+    if (info.mat3Images == 0) throw std::runtime_error("the mat3 sprite program links with no image at all");
+  } else {
+    pointColorProgram_ = PointProgram(programs().pointColor);
+  }
+  return info;
+}
+
+void GlBackend::allocateSlots(const SlotLayout& layout) {
+  layout_ = layout;
+  const int w = layout.slice.width, h = layout.slice.height, n = layout.slots;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  if (naive()) {
+    for (GLint u = 0; u < limits_.maxTextureImageUnits; ++u)
+      if (u < kUnitParams || u > kUnitValidity) naiveUnits_.push_back(u);
+    for (int i = 0; i < n; ++i) {
+      naiveImages_.push_back(gpu::makeRgba8Image(w, h));
+      naiveDepths_.push_back(gpu::makeDepthTarget(layout.depthSize, layout.depthSize));
+    }
+    checkGlError("naive slices");
+    shadeProgram_ = ShadeProgram(programs().shade, n);
+  } else {
+    imageArray_ = gpu::makeRgba8Array(w, h, n);
+    depthArray_ = gpu::makeDepthArray(layout.depthSize, n);
+    checkGlError("slice arrays");
+  }
+  checkGlError("renderer initialisation");
+}
+
+void GlBackend::uploadImage(int slot, const Image8& slice) {
+  const int w = layout_.slice.width, h = layout_.slice.height;
+  if (naive()) {
+    glBindTexture(GL_TEXTURE_2D, naiveImages_[size_t(slot)].id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, slice.data.data());
+  } else {
+    glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray_.id());
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, slot, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, slice.data.data());
+  }
+  checkGlError("image upload");
+}
+
+void GlBackend::finishDepthMaps() { glFinish(); }
+
+Image8 GlBackend::shade(ShadeMode mode, int w, int h, bool readBack) {
+  glUniform1i(shadeProgram_.mode, mode);
+  gpu::drawFullscreen(emptyVao_);
+  if (!readBack) return {};
+  return readColour(w, h);
+}
+
+RenderOutput GlBackend::runViewPasses(const Frame& f, ViewPassStats& stats) {
+  stats = {};
+  const Camera& view = f.view;
+  uploadParams(f);
+  viewDepthPass(f);  // leaves viewFbo bound
+  if (f.points.enabled) viewPointsPass(f);
+  if (f.rect.distorted) uploadIdealLookup(view);
+  cullingThisFrame_ = f.culling;
+  if (cullingThisFrame_) tileListPass(f, stats);
+
+  // Shading pass into the colour target.
+  gpu::attachDepth(0);
+  gpu::attachColour(viewColor_.id());
+  gpu::drawToColour();
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  gpu::checkFramebuffer("view colour");
+  glViewport(0, 0, view.width, view.height);
+  shadeProgram_.program.use();
+  bindShadeInputs(f);
+
+  RenderOutput out;
+  // The debug counts first and the picture last, so the colour target ends up holding the picture
+  // (colorTexture()).
+  if (f.withCounts) {
+    out.counts = decodeCounts(shade(kShadeCount, view.width, view.height, true));
+    out.loopLengths = decodeCounts(shade(kShadeLoopLength, view.width, view.height, true));
+  }
+  if (f.debug.view == DebugView::None)
+    shade(kShadeColour, view.width, view.height, false);
+  else
+    out.debugValues = debugViewPass(f, stats);
+  if (f.debug.frusta) frustaPass(f);
+  if (f.readBackColour) out.rgba = readColour(view.width, view.height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  checkGlError("render");
+  return out;
+}
+
+}  // namespace hv::render::gl

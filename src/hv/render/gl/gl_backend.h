@@ -1,0 +1,140 @@
+// The GLES 3.0 backend (render/backend.h): the geometry, the slots' photographs and depth maps,
+// and the passes of a frame, each in its own file under render/gl/:
+//   depth_pass.cpp    photographs' depth maps and the view's depth (Brédif 2013 §3, shadow maps)
+//   points_pass.cpp   point sprites into the view depth, their colours, eye-dome lighting (2022 §2.3)
+//   tile_pass.cpp     per-tile image lists (ibr/tile_culling.h)
+//   shade_pass.cpp    the blend (Brédif 2013 eq. 2), parameter upload, the distorted-view lookup
+//   debug_pass.cpp    the debug views (counts, weight, a depth map)
+//   overlay_pass.cpp  the photographs' frusta over the picture
+//   gl_backend.cpp    uploads, slots, and the order of the view passes and the read-back
+// Needs a current GLES 3.0 context (hv/gpu/context.h).
+#pragma once
+
+#include "hv/gpu/gl.h"
+#include "hv/render/backend.h"
+#include "hv/render/gl/programs.h"
+#include "hv/util/diagnostics.h"
+
+#include <array>
+#include <vector>
+
+namespace hv::render::gl {
+
+// Texture units, fixed for every program.
+enum Unit : GLint {
+  kUnitImages = 0,
+  kUnitDepthMaps = 1,
+  kUnitParams = 2,
+  kUnitViewDepth = 3,
+  kUnitLookup = 4,
+  kUnitTileLists = 5,
+  kUnitViewBuilding = 6,
+  kUnitValidity = 7,
+  kUnitPointColor = 8,
+  kUnitPointParams = 9
+};
+
+// Shading-pass modes (u_mode in shaders/ibr_shade.frag).
+enum ShadeMode : GLint {
+  kShadeColour = 0,
+  kShadeCount = 1,
+  kShadeLoopLength = 2,
+  kShadeShare = 3,
+  kShadeCountColour = 4,
+  kShadeShareColour = 5
+};
+
+// The bound colour target, RGBA8.
+Image8 readColour(int w, int h);
+// Counts encoded in red (low byte) and green (high byte).
+Image16 decodeCounts(const Image8& enc);
+
+class GlBackend final : public Backend {
+ public:
+  explicit GlBackend(Diagnostics& diag);
+
+  BackendLimits limits() const override;
+  void uploadGeometry(const GeometryBuffers& geometry) override;
+  PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) override;
+  void allocateSlots(const SlotLayout& layout) override;
+  void uploadImage(int slot, const Image8& slice) override;
+  void drawDepthMap(const DepthMapJob& job) override;
+  void finishDepthMaps() override;
+  RenderOutput runViewPasses(const Frame& frame, ViewPassStats& stats) override;
+  unsigned int colorTexture() const override { return viewColor_.id(); }
+
+ private:
+  bool naive() const { return layout_.binding == Binding::Naive; }
+  // depth_pass.cpp
+  void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
+                 const DateInterval& date, const std::array<bool, kLayerCount>& layers, double pushBack,
+                 glm::dvec3 centerRender);
+  void drawLayers(const std::array<bool, kLayerCount>& layers);
+  void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
+  void viewDepthPass(const Frame& f);
+  // points_pass.cpp
+  void drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam,
+                  const ibr::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender);
+  void uploadPointParams(const Frame& f, const glm::dmat3& viewM);
+  void viewPointsPass(const Frame& f);
+  // tile_pass.cpp
+  void tileListPass(const Frame& f, ViewPassStats& stats);
+  // shade_pass.cpp
+  void uploadParams(const Frame& f);
+  void uploadIdealLookup(const Camera& view);
+  void bindShadeInputs(const Frame& f);
+  Image8 shade(ShadeMode mode, int w, int h, bool readBack);
+  // debug_pass.cpp
+  Image16 debugViewPass(const Frame& f, ViewPassStats& stats);
+  Image16 depthMapView(const Frame& f, ViewPassStats& stats);
+  // overlay_pass.cpp
+  void frustaPass(const Frame& f);
+
+  Diagnostics& diag_;
+  gpu::GlLimits limits_;
+  SlotLayout layout_;
+
+  DepthProgram depthProgram_, viewDepthProgram_;
+  ShadeProgram shadeProgram_;
+  TileDepthProgram tileDepthProgram_;
+  gpu::VertexArray meshVao_, emptyVao_;
+  gpu::Buffer vertexBuffer_, indexBuffer_;
+  int indexCount_ = 0;
+  std::array<DrawRange, kLayerCount> layerRange_;
+  gpu::Texture validityTexture_;
+  int validityWidth_ = 1;
+
+  // Slot i of both stores holds one photograph: texture arrays, or (the naive binding) one 2D
+  // texture per slot for the photograph and one for its depth map, on the units the shading pass
+  // leaves free.
+  gpu::Texture imageArray_, depthArray_;
+  std::vector<gpu::Texture> naiveImages_, naiveDepths_;
+  std::vector<GLint> naiveUnits_;
+  gpu::Texture paramsTexture_;
+  int paramsRows_ = 0;
+
+  gpu::Framebuffer depthFbo_, viewFbo_;
+  gpu::Texture viewDepth_, viewBuilding_, viewColor_, lookupTexture_, tileRange_, tileLists_;
+  glm::ivec2 viewDepthSize_{0}, viewColorSize_{0}, tileRangeSize_{0};
+  bool cullingThisFrame_ = false;
+  int tilesX_ = 0;
+
+  // The point pass.
+  PointProgram pointDepthProgram_, pointColorProgram_;
+  gpu::VertexArray pointVao_;
+  gpu::Buffer pointBuffer_;
+  float maxPointSize_ = 1.0f;
+  gpu::Texture pointColor_, pointParamsTexture_;
+  glm::ivec2 pointColorSize_{0};
+  int pointParamsRows_ = 0;
+
+  // Debug views and overlays, linked on first use.
+  DebugDepthProgram debugDepthProgram_;
+  LinesProgram linesProgram_;
+  gpu::VertexArray frustumVao_;
+  gpu::Buffer frustumBuffer_;
+  std::uint64_t frustumVersion_ = 0;
+  bool warnedDebugNaive_ = false;
+};
+
+}  // namespace hv::render::gl

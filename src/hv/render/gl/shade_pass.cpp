@@ -1,0 +1,107 @@
+// The shading pass: per pixel, the photographs that see its surface point blended with their
+// weights (Brédif 2013 eq. 2), each behind its depth test and its date (shaders/ibr_shade.frag).
+// Its inputs: the per-image parameters (one data-texture row per image, ibr::packImageParams), the
+// view depth, the lookup from distorted to ideal pixels, the tile lists and the points' colours.
+#include "hv/render/gl/gl_backend.h"
+
+#include "hv/gpu/textures.h"
+
+#include <stdexcept>
+
+namespace hv::render::gl {
+
+void GlBackend::uploadParams(const Frame& f) {
+  const int rows = int(f.params.size());
+  if (!paramsTexture_ || rows > paramsRows_) {
+    paramsRows_ = std::max(rows, 64);
+    if (paramsRows_ > limits_.maxTextureSize)
+      throw std::runtime_error("more images per pass than MAX_TEXTURE_SIZE rows of parameters");
+    paramsTexture_ = gpu::makeFloatData(ibr::kTexelsPerImage, paramsRows_);
+  }
+  if (!f.params.empty()) {
+    glBindTexture(GL_TEXTURE_2D, paramsTexture_.id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, ibr::kTexelsPerImage, GLsizei(f.params.size()), GL_RGBA, GL_FLOAT,
+                    f.packedParams.data());
+  }
+}
+
+// A distorted view: each output pixel's ideal (undistorted) position, where the view depth is read.
+void GlBackend::uploadIdealLookup(const Camera& view) {
+  std::vector<float> lookup(size_t(view.width) * view.height * 4, 0.0f);
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      float* o = &lookup[(size_t(y) * view.width + x) * 4];
+      if (auto p = view.undistort({x + 0.5, y + 0.5})) {
+        o[0] = float(p->x);
+        o[1] = float(p->y);
+        o[2] = 1.0f;
+      }
+    }
+  // Uploaded on unit 0, bound to its unit for the shading pass.
+  lookupTexture_ = gpu::makeFloatData(view.width, view.height, lookup.data());
+}
+
+void GlBackend::bindShadeInputs(const Frame& f) {
+  const ShadeProgram& p = shadeProgram_;
+  const Camera& view = f.view;
+  const ibr::PinholeFrustum& vf = f.rect.frustum;
+  const bool distorted = f.rect.distorted;
+  const bool points = f.points.enabled;
+  if (naive()) {
+    // The k-th selected image on the k-th sampler pair: the unrolled shader needs no indexing.
+    for (int k = 0; k < layout_.slots; ++k) {
+      const GLint imageUnit = naiveUnits_[size_t(2 * k)], depthUnit = naiveUnits_[size_t(2 * k + 1)];
+      const int slot = k < int(f.params.size()) ? f.params[size_t(k)].layout.slice : 0;
+      gpu::bindUnit(imageUnit, GL_TEXTURE_2D, naiveImages_[size_t(slot)].id());
+      gpu::bindUnit(depthUnit, GL_TEXTURE_2D, naiveDepths_[size_t(slot)].id());
+      glUniform1i(p.naiveImages[size_t(k)], imageUnit);
+      glUniform1i(p.naiveDepths[size_t(k)], depthUnit);
+    }
+  } else {
+    gpu::bindUnit(kUnitImages, GL_TEXTURE_2D_ARRAY, imageArray_.id());
+    gpu::bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray_.id());
+  }
+  gpu::bindUnit(kUnitParams, GL_TEXTURE_2D, paramsTexture_.id());
+  gpu::bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth_.id());
+  gpu::bindUnit(kUnitLookup, GL_TEXTURE_2D, distorted ? lookupTexture_.id() : 0);
+  if (!naive()) {
+    glUniform1i(p.images, kUnitImages);
+    glUniform1i(p.depthMaps, kUnitDepthMaps);
+  }
+  glUniform1i(p.params, kUnitParams);
+  glUniform1i(p.viewDepth, kUnitViewDepth);
+  glUniform1i(p.idealLookup, kUnitLookup);
+  glUniform1i(p.useLookup, distorted ? 1 : 0);
+  gpu::bindUnit(kUnitTileLists, GL_TEXTURE_2D, cullingThisFrame_ ? tileLists_.id() : 0);
+  glUniform1i(p.tileLists, kUnitTileLists);
+  gpu::bindUnit(kUnitViewBuilding, GL_TEXTURE_2D, viewBuilding_.id());
+  gpu::bindUnit(kUnitValidity, GL_TEXTURE_2D, validityTexture_.id());
+  glUniform1i(p.viewBuilding, kUnitViewBuilding);
+  if (points) gpu::bindUnit(kUnitPointColor, GL_TEXTURE_2D, pointColor_.id());  // naive: photographs from unit 8 up
+  // Without points the sampler points at a unit of the same type that is never read.
+  glUniform1i(p.pointColor, points ? kUnitPointColor : kUnitLookup);
+  glUniform1i(p.points, points ? 1 : 0);
+  glUniform1f(p.meshPushBack, float(f.meshPushBack));
+  glUniform1i(p.validity, kUnitValidity);
+  glUniform1i(p.validityWidth, validityWidth_);
+  glUniform1i(p.culling, cullingThisFrame_ ? 1 : 0);
+  glUniform1i(p.tileSize, f.tileSize);
+  glUniform1i(p.tilesX, tilesX_);
+  glUniform2f(p.viewRectMin, float(vf.pxMin.x), float(vf.pxMin.y));
+  glUniform2f(p.viewRectInvSize, float(1.0 / (vf.pxMax.x - vf.pxMin.x)),
+              float(1.0 / (vf.pxMax.y - vf.pxMin.y)));
+  glUniform2i(p.viewDepthSize, f.rect.depthSize.x, f.rect.depthSize.y);
+  glUniform1f(p.viewNear, float(vf.near));
+  glUniform1f(p.viewFar, float(vf.far));
+  glUniform1f(p.sphereRadius, float(f.sphereRadius));
+  const glm::dvec3 c = view.center - f.origin;
+  glUniform3f(p.viewCenter, float(c.x), float(c.y), float(c.z));
+  gpu::uploadMat3(p.viewDirFromPix, glm::transpose(view.camFromWorld) * view.camFromPix());
+  glUniform1i(p.imageCount, GLint(f.params.size()));
+  glUniform1i(p.method, f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+  glUniform1i(p.occlusion, f.blend.occlusion ? 1 : 0);
+  glUniform1i(p.debugImage, f.debug.image);
+  glUniform3f(p.background, float(f.background.r), float(f.background.g), float(f.background.b));
+}
+
+}  // namespace hv::render::gl
