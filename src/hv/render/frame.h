@@ -66,7 +66,7 @@ struct DepthMapJob {
   int slot = -1;
   int photo = -1;
   Camera camera;                  // as projected (without its distortion when the lens layer is off)
-  ibr::PinholeFrustum frustum;    // the ideal rectangle covering its image, its depth range
+  hv::PinholeFrustum frustum;    // the ideal rectangle covering its image, its depth range
   glm::dmat4 clipFromRender{1.0};
   int size = 0;                   // the map's side, texels
   glm::dvec3 centerRender{0.0};
@@ -80,7 +80,7 @@ struct DepthMapJob {
 // The view's rectangle: linear depth is drawn over the pinhole rectangle covering the (distorted)
 // view, at the output's pixel density.
 struct ViewRect {
-  ibr::PinholeFrustum frustum;
+  hv::PinholeFrustum frustum;
   glm::dmat4 clipFromRender{1.0};
   glm::ivec2 depthSize{0};        // view-depth target
   bool distorted = false;
@@ -109,7 +109,7 @@ struct DebugPass {
   DebugView view = DebugView::None;
   int photo = -1;
   int slot = -1;                  // the depth-map view's slot (-1: none to show)
-  ibr::PinholeFrustum slotFrustum;
+  hv::PinholeFrustum slotFrustum;
   int image = -1;                 // debug.photo's index among the frame's images
   bool frusta = false;            // the overlay (never over the DepthMap view)
   const FrustumLines* frustumLines = nullptr;  // when frusta: owned by the builder

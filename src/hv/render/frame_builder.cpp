@@ -176,10 +176,10 @@ Camera FrameBuilder::photoCamera(int photo) const {
 
 // The pinhole frustum of a photograph's depth map: the ideal rectangle covering its image (with
 // a pixel of margin), the depth range of everything that may be drawn into it.
-ibr::PinholeFrustum FrameBuilder::depthFrustum(int photo) const {
+hv::PinholeFrustum FrameBuilder::depthFrustum(int photo) const {
   const Camera cam = photoCamera(photo);
-  ibr::PinholeFrustum fr = ibr::idealRectCoveringImage(cam, 1.0);
-  ibr::setDepthRange(fr, cam, bounds_);
+  hv::PinholeFrustum fr = hv::idealRectCoveringImage(cam, 1.0);
+  hv::setDepthRange(fr, cam, bounds_);
   return fr;
 }
 
@@ -261,7 +261,7 @@ DepthMapJob FrameBuilder::depthMapJob(int slot) const {
   job.photo = cache_.photoIn(slot);
   job.camera = photoCamera(job.photo);
   job.frustum = slotFrustum_[size_t(slot)];
-  job.clipFromRender = ibr::clipFromRender(job.camera, job.frustum, scene_.origin);
+  job.clipFromRender = hv::clipFromRender(job.camera, job.frustum, scene_.origin);
   job.centerRender = job.camera.center - scene_.origin;
   job.date = photoDate(scene_.photos[size_t(job.photo)]);
   job.pushBack = meshPushBack();
@@ -322,7 +322,7 @@ void FrameBuilder::packParams(Frame& f) {
     }
     const int photo = f.plan.images[i].photo;
     const Camera cam = photoCamera(photo);
-    const ibr::PinholeFrustum& fr = slotFrustum_[size_t(slot)];
+    const hv::PinholeFrustum& fr = slotFrustum_[size_t(slot)];
     const double texel = std::max((fr.pxMax.x - fr.pxMin.x) / (layout_.depthSize * cam.focal.x),
                                   (fr.pxMax.y - fr.pxMin.y) / (layout_.depthSize * cam.focal.y));
     const ibr::DepthBias bias{biasAbs, settings_.depthBiasTexels * texel};
@@ -362,15 +362,15 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   // The view's rectangle: the pinhole rectangle covering the (distorted) view, at the output's
   // pixel density.
   f.rect.distorted = view.distortion && !view.distortion->isIdentity();
-  f.rect.frustum = ibr::idealRectCoveringImage(view, 0.0);
-  ibr::setDepthRange(f.rect.frustum, view, bounds_);
+  f.rect.frustum = hv::idealRectCoveringImage(view, 0.0);
+  hv::setDepthRange(f.rect.frustum, view, bounds_);
   f.rect.depthSize = glm::ivec2(view.width, view.height);
   if (f.rect.distorted) {
-    const ibr::PinholeFrustum& vf = f.rect.frustum;
+    const hv::PinholeFrustum& vf = f.rect.frustum;
     f.rect.depthSize = glm::ivec2(std::ceil(vf.pxMax.x - vf.pxMin.x), std::ceil(vf.pxMax.y - vf.pxMin.y));
     f.rect.depthSize = glm::min(f.rect.depthSize, glm::ivec2(limits_.maxTextureSize));
   }
-  f.rect.clipFromRender = ibr::clipFromRender(view, f.rect.frustum, scene_.origin);
+  f.rect.clipFromRender = hv::clipFromRender(view, f.rect.frustum, scene_.origin);
 
   f.layers = {settings_.layers.terrain, settings_.layers.buildings, settings_.layers.mesh};
   const PointSettings& ps = settings_.points;

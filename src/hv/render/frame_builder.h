@@ -80,7 +80,7 @@ class FrameBuilder {
   const FrustumLines& frustumLines();
 
   Camera photoCamera(int photo) const;
-  ibr::PinholeFrustum depthFrustum(int photo) const;
+  hv::PinholeFrustum depthFrustum(int photo) const;
   DepthMapInputs depthMapInputs() const;
   std::vector<std::string> excludedIds() const;
   PointPass pointPass(const Camera& cam, bool dropTransient, double depthOffset) const;
@@ -106,7 +106,7 @@ class FrameBuilder {
   std::unique_ptr<ibr::ImageLoader> loader_;
   bool loaderMasks_ = true;
   ibr::DepthMapScheduler depthScheduler_;
-  std::vector<ibr::PinholeFrustum> slotFrustum_;
+  std::vector<hv::PinholeFrustum> slotFrustum_;
   std::vector<bool> photoBroken_;
   DepthMapInputs depthInputs_;
   std::uint64_t frame_ = 0;

@@ -50,7 +50,7 @@ Image16 GlBackend::depthMapView(const Frame& f, ViewPassStats& stats) {
     warnedDebugNaive_ = true;
     slot = -1;
   }
-  const ibr::PinholeFrustum& fr = f.debug.slotFrustum;
+  const hv::PinholeFrustum& fr = f.debug.slotFrustum;
   Image16 values(w, h, 1, 65535);
   std::vector<bool> inside(size_t(w) * h, false);
   if (slot >= 0) {

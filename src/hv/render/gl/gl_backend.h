@@ -74,7 +74,7 @@ class GlBackend final : public Backend {
   void viewDepthPass(const Frame& f);
   // points_pass.cpp
   void drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam,
-                  const ibr::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender);
+                  const hv::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender);
   void uploadPointParams(const Frame& f, const glm::dmat3& viewM);
   void viewPointsPass(const Frame& f);
   // tile_pass.cpp

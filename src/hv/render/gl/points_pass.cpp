@@ -11,7 +11,7 @@ namespace hv::render::gl {
 // Draws `pass`'s sprites with `program` into a target of `size` texels covering `fr`. The caller
 // sets the depth state and the program's own uniforms.
 void GlBackend::drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam,
-                           const ibr::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender) {
+                           const hv::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender) {
   const glm::dmat3 M = ibr::targetCameraMatrix(cam, fr, size);
   const glm::dmat3 Minv = glm::inverse(M);
   const glm::dvec3 c = centerRender;
@@ -63,7 +63,7 @@ void GlBackend::uploadPointParams(const Frame& f, const glm::dmat3& viewM) {
 void GlBackend::viewPointsPass(const Frame& f) {
   const ViewPoints& vp = f.points;
   const Camera& view = f.view;
-  const ibr::PinholeFrustum& vf = f.rect.frustum;
+  const hv::PinholeFrustum& vf = f.rect.frustum;
   const glm::ivec2 depthSz = f.rect.depthSize;
   const glm::dvec3 center = view.center - f.origin;
   gpu::drawToNoColour();

@@ -44,7 +44,7 @@ void GlBackend::uploadIdealLookup(const Camera& view) {
 void GlBackend::bindShadeInputs(const Frame& f) {
   const ShadeProgram& p = shadeProgram_;
   const Camera& view = f.view;
-  const ibr::PinholeFrustum& vf = f.rect.frustum;
+  const hv::PinholeFrustum& vf = f.rect.frustum;
   const bool distorted = f.rect.distorted;
   const bool points = f.points.enabled;
   if (naive()) {
