@@ -1,13 +1,19 @@
 #include "hv/app/common.h"
 
+#include "hv/app/checks.h"
+#include "hv/app/outputs.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/scene_loader.h"
+#include "hv/scene/robust_extent.h"
 #include "hv/util/log.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 
@@ -43,12 +49,27 @@ CLI::Validator isoDate() {
 }  // namespace
 
 void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body) {
+  // The exit statuses of docs/reliability.md: an input that cannot be used at all (the scene, an
+  // option's value) is 2; anything else that stops the command is 1, with a message naming it.
+  cmd.footer(exitStatusHelp());
   cmd.callback([&exitCode, body = std::move(body)] {
     try {
       exitCode = body();
+    } catch (const InputError& e) {
+      std::cerr << "\nerror: " << e.what() << "\n";
+      exitCode = kExitNoScene;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "\nerror: " << e.what() << "\n";
+      exitCode = kExitNoScene;
+    } catch (const std::filesystem::filesystem_error& e) {
+      std::cerr << "\nerror: " << e.path1().string() << ": " << e.code().message() << "\n";
+      exitCode = kExitNotProduced;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nerror: out of memory\n";
+      exitCode = kExitNotProduced;
     } catch (const std::exception& e) {
       std::cerr << "\nerror: " << e.what() << "\n";
-      exitCode = 2;
+      exitCode = kExitNotProduced;
     }
   });
 }
@@ -60,9 +81,14 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
         ->required()
         ->check(CLI::ExistingFile);
   cmd.add_option("--size", o.size, "output size WxH (intrinsics scaled uniformly; default: each view's own)");
-  cmd.add_option("--k", o.k, "images blended per pixel")->check(CLI::PositiveNumber);
-  cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)");
-  cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated)")->delimiter(',');
+  cmd.add_option("--k", o.k, "images blended per pixel")->check(positiveCount("--k"));
+  cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)")
+      ->check(sigmaValue());
+  cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated; an unknown id is named)")
+      ->delimiter(',');
+  cmd.add_flag("--strict", o.strict,
+               "stop with exit status 1 before rendering when any input item was left out (default: render "
+               "the rest, exit status 3)");
   cmd.add_option("--depth-size", o.depthSize, "depth-map resolution")->check(CLI::Range(16, 16384));
   cmd.add_option("--binding", o.binding,
                  "array (texture arrays, default) or naive (a sampler2D per image and per depth map: the baseline)")
@@ -248,12 +274,25 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   return s;
 }
 
+void checkSessionInputs(const Scene& scene, const ViewOptions& o, Diagnostics& diag) {
+  if (scene.photos.empty())
+    diag.warn(scene.path + ": no photograph loaded (the cameras file has none, or none could be read): "
+                           "the views show the geometry untextured");
+  for (const std::string& id : o.exclude) {
+    const bool known = std::any_of(scene.photos.begin(), scene.photos.end(),
+                                   [&](const Photo& p) { return p.camera.id == id; });
+    if (!known) diag.warn("--exclude: no photograph of " + scene.path + " has the id '" + id + "' (ignored)");
+  }
+  for (const std::string& outlier : robustExtent(scene).outliers) diag.warn(scene.path + ": " + outlier);
+}
+
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
                                      const std::function<std::unique_ptr<gpu::Context>()>& makeContext) {
   const render::RenderSettings settings = renderSettings(o);  // bad option values fail before loading
   auto session = std::make_unique<Session>();
   session->scene = loadScene(o.scenePath, diag);
   checkPhotoDates(session->scene, diag);
+  checkSessionInputs(session->scene, o, diag);
   if (!o.viewsPath.empty()) {
     CameraFileOptions viewOpts;
     viewOpts.requireImages = false;
@@ -261,6 +300,9 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
     session->views = readCameraFile(o.viewsPath, viewOpts, diag);
     if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
   }
+  if (o.strict && !diag.ok())
+    throw std::runtime_error("--strict: " + std::to_string(diag.errors.size()) +
+                             " input item(s) would be left out (named above); nothing rendered");
   session->context = makeContext ? makeContext() : gpu::createHeadlessContext();
   session->renderer = std::make_unique<render::Renderer>(session->scene, settings, diag);
   return session;
