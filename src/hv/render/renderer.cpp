@@ -7,6 +7,7 @@
 #include "hv/ibr/slot_cache.h"
 #include "hv/ibr/sprite_homography.h"
 #include "hv/points/chunks.h"
+#include "hv/scene/robust_extent.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/ibr/tile_culling.h"
 #include "hv/image/colormap.h"
@@ -129,6 +130,15 @@ struct PointVertex {
 };
 static_assert(sizeof(PointVertex) == 28);
 
+// `box` limited to `limit` (unchanged when either is empty or they do not meet).
+Aabb clippedTo(const Aabb& box, const Aabb& limit) {
+  if (box.empty() || limit.empty()) return box;
+  Aabb c;
+  c.lo = glm::max(box.lo, limit.lo);
+  c.hi = glm::min(box.hi, limit.hi);
+  return c.empty() ? box : c;
+}
+
 }  // namespace
 
 const std::vector<ProgramSource>& programSources() {
@@ -169,6 +179,7 @@ struct Renderer::Impl {
   bool loaderMasks = true;
   Aabb bounds;          // geometry and camera centres: depth ranges
   Aabb geometryBounds;  // geometry only: the frustum filter
+  Aabb inlierBounds;    // robustExtent (hv/scene/robust_extent.h): what the two boxes above may cover
 
   // Slots: slice i of both arrays holds cache.photoIn(i).
   ibr::SliceSize sliceSize;
@@ -288,6 +299,11 @@ struct Renderer::Impl {
       for (const auto& t : m->triangles) indices.insert(indices.end(), {t.x + base, t.y + base, t.z + base});
       bounds.extend(m->bounds());
     }
+    // One absurd coordinate (an inf vertex, an unflagged no-data cell) never stretches the depth
+    // ranges until the picture is black: both boxes stop at the scene's inliers
+    // (hv/scene/robust_extent.h).
+    inlierBounds = robustExtent(scene).bounds;
+    bounds = clippedTo(bounds, inlierBounds);
     // Padded so that flat geometry (a single wall, flat ground) still has a volume to sample.
     geometryBounds = bounds;
     if (!geometryBounds.empty()) {
@@ -296,6 +312,7 @@ struct Renderer::Impl {
       geometryBounds.hi += pad;
     }
     for (const auto& p : scene.photos) bounds.extend(p.camera.center);
+    bounds = clippedTo(bounds, inlierBounds);
     indexCount = GLsizei(indices.size());
     meshVao = gpu::makeVertexArray();
     vertexBuffer = gpu::makeBuffer();
@@ -403,7 +420,7 @@ struct Renderer::Impl {
       const double area = std::max(e[1] * e[2], 1e-6);
       chunkSpacing.push_back(std::sqrt(area / std::max<std::uint32_t>(c.count, 1)));
     }
-    const Aabb pb = cloud.bounds();
+    const Aabb pb = clippedTo(cloud.bounds(), inlierBounds);
     bounds.extend(pb);
     geometryBounds.extend(pb);
 
