@@ -66,7 +66,9 @@ TEST(SceneCameraSpacing, HundredThousandCamerasUnderASecondThenCached) {
   EXPECT_LT(seconds(t0), 1.0);
   t0 = std::chrono::steady_clock::now();
   for (int frame = 0; frame < 100; ++frame) EXPECT_DOUBLE_EQ(s.cameraSpacing(), 2.0);
-  EXPECT_LT(seconds(t0), 0.5);  // 100 frames: the cached value, checked against the centres
+  // 100 frames: the cached value, checked against a hash of the centres (~1 ms each; a loaded CI
+  // machine is several times slower, hence the margin: without the cache this took minutes).
+  EXPECT_LT(seconds(t0), 2.0);
   // A camera that moves (an edited scene) is noticed.
   for (Photo& p : s.photos) p.camera.center *= 3.0;
   EXPECT_DOUBLE_EQ(s.cameraSpacing(), 6.0);
@@ -83,7 +85,7 @@ TEST(SceneCameraSpacing, CoincidentCamerasStayFast) {
   s.photos.assign(100000, photoAt("same", {651000, 6862000, 35}));
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(s.cameraSpacing(), 1.0);
-  EXPECT_LT(seconds(t0), 1.0);
+  EXPECT_LT(seconds(t0), 2.0);  // quadratic before: every search visited every equal centre
 }
 
 // A 1 km terrain grid (Lambert-93 sized coordinates) with cameras above it.
