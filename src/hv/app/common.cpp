@@ -275,15 +275,20 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
 }
 
 void checkSessionInputs(const Scene& scene, const ViewOptions& o, Diagnostics& diag) {
+  // Printed whatever HV_LOG says: these name what the user asked for or gave, once.
+  auto warn = [&](std::string message) {
+    std::cerr << "warning: " << message << "\n";
+    diag.warnings.push_back(std::move(message));
+  };
   if (scene.photos.empty())
-    diag.warn(scene.path + ": no photograph loaded (the cameras file has none, or none could be read): "
-                           "the views show the geometry untextured");
+    warn(scene.path + ": no photograph loaded (the cameras file has none, or none could be read): the views "
+                      "show the geometry untextured");
   for (const std::string& id : o.exclude) {
     const bool known = std::any_of(scene.photos.begin(), scene.photos.end(),
                                    [&](const Photo& p) { return p.camera.id == id; });
-    if (!known) diag.warn("--exclude: no photograph of " + scene.path + " has the id '" + id + "' (ignored)");
+    if (!known) warn("--exclude: no photograph of " + scene.path + " has the id '" + id + "' (ignored)");
   }
-  for (const std::string& outlier : robustExtent(scene).outliers) diag.warn(scene.path + ": " + outlier);
+  for (const std::string& outlier : robustExtent(scene).outliers) warn(scene.path + ": " + outlier);
 }
 
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
