@@ -59,7 +59,7 @@ void addCheckCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("scene", o->scene, "scene.json")->required()->check(CLI::ExistingFile);
   cmd->add_flag("--deep", o->deep, "decode every photograph and mask fully (default: headers only)");
   cmd->add_flag("--json", o->json, "print the report as JSON");
-  cmd->add_option("--threads", o->threads, "--deep: decoding threads (default 2)")->check(positiveCount("--threads"));
+  cmd->add_option("--threads", o->threads, "--deep: decoding threads (default 2)")->check(positiveCount());
   cmd->callback([o, &exitCode] {
     CheckOptions options;
     options.deep = o->deep;

@@ -49,14 +49,14 @@ CLI::Validator sigmaValue() {
       "SIGMA");
 }
 
-CLI::Validator positiveCount(const std::string& option) {
+CLI::Validator positiveCount() {
   return CLI::Validator(
-      [option](std::string& text) -> std::string {
+      [](std::string& text) -> std::string {
         long long v = 0;
         std::istringstream in(text);
         in >> v;
         if (in && (in >> std::ws).eof() && v >= 1) return "";
-        return option + ": expected a whole number of at least 1, got '" + text + "'";
+        return "expected a whole number of at least 1, got '" + text + "'";
       },
       "N");
 }

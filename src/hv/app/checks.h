@@ -26,9 +26,9 @@ namespace hv::app {
 // or NaN used to mean "the default" silently). Leaving the option out is the default.
 inline constexpr double kMaxSigma = 1e7;
 CLI::Validator sigmaValue();
-// A whole number >= 1 (--k and the other counts): names the option and the value, where CLI11's
-// PositiveNumber prints a 309-digit range.
-CLI::Validator positiveCount(const std::string& option);
+// A whole number >= 1 (--k and the other counts): CLI11 names the option, the message the value,
+// where CLI11's PositiveNumber prints a 309-digit range.
+CLI::Validator positiveCount();
 
 // The largest view a command renders: its colour, coverage and count buffers (about 16 bytes a
 // pixel with the GL copies) must fit comfortably in memory. 64 megapixels, e.g. 8192 x 8192.

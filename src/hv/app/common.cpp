@@ -81,7 +81,7 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
         ->required()
         ->check(CLI::ExistingFile);
   cmd.add_option("--size", o.size, "output size WxH (intrinsics scaled uniformly; default: each view's own)");
-  cmd.add_option("--k", o.k, "images blended per pixel")->check(positiveCount("--k"));
+  cmd.add_option("--k", o.k, "images blended per pixel")->check(positiveCount());
   cmd.add_option("--sigma", o.sigma, "sigma of f(d) = 1/(sigma^2 + d^2), scene units (default: camera spacing)")
       ->check(sigmaValue());
   cmd.add_option("--exclude", o.exclude, "photo ids left out (comma separated; an unknown id is named)")
