@@ -113,6 +113,16 @@ expect_out eval "nearest"
 expect_out eval "mean +blend +[0-9]"
 check "eval wrote e.json with \"methods\"" grep -q '"methods"' "$DIR/e.json"
 
+# One view whose truth cannot be read (a symlink loop) is that view's alone: the others are scored,
+# the status says a view asked for was not produced (1).
+cp -r "$city/truth" "$DIR/truth-loop"
+rm -f "$DIR/truth-loop/${ids[0]}".*
+ln -sf "${ids[0]}.jpg" "$DIR/truth-loop/${ids[0]}.png"; ln -sf "${ids[0]}.png" "$DIR/truth-loop/${ids[0]}.jpg"
+run eval-loop eval "$city/scene.json" --views "$city/views.json" --truth "$DIR/truth-loop" --k 4
+expect_rc "eval with one truth a symlink loop" 1
+expect_out "eval with one truth a symlink loop" "${ids[0]}.*not scored"
+expect_out "eval with one truth a symlink loop" "mean +blend +[0-9]"
+
 # --- eval --seams (measured on real panoramas in src/hv/eval/paris_seams_test.cpp): a panorama id
 # that no photograph ends with is an error naming it
 run seams-none eval "$city/scene.json" --seams no-such-pano
@@ -140,7 +150,8 @@ expect_rc "info on a missing scene.json" fail
 expect_out "info on a missing scene.json" "no-such-scene.json"
 
 # One photograph with a non-orthonormal rotation among good ones: it is reported (file, camera,
-# field) and left out, the scene still renders every view, the exit code says "input errors" (1).
+# field) and left out, the scene still renders every view, the exit status says "produced, with
+# items left out" (3, docs/reliability.md).
 python3 - "$city" <<'PY'
 import json, sys
 city = sys.argv[1]
@@ -157,14 +168,14 @@ PY
 read -r badphoto badview < <(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["id"], json.load(open(sys.argv[2]))["cameras"][0]["id"])' "$city/cameras.json" "$city/views.json")
 
 run badrot-photo render "$city/scene-badrot.json" --views "$city/views.json" --out "$DIR/rbadphoto" --k 4 --size 160x120
-expect_rc "render with one bad photo camera" 1
+expect_rc "render with one bad photo camera" 3
 expect_out "render with one bad photo camera" "cameras-badrot.json.*$badphoto.*rotation"
 for id in "${ids[@]}"; do
   check "bad photo camera: view $id still written" test -s "$DIR/rbadphoto/$id.png"
 done
 
 run badrot-view render "$city/scene.json" --views "$city/views-badrot.json" --out "$DIR/rbadview" --k 4 --size 160x120
-expect_rc "render with one bad view camera" 1
+expect_rc "render with one bad view camera" 3
 expect_out "render with one bad view camera" "views-badrot.json.*$badview.*rotation"
 check "bad view camera: not rendered" test ! -e "$DIR/rbadview/$badview.png"
 for id in "${ids[@]:1}"; do
@@ -205,7 +216,7 @@ cat >"$mm/Ori-T/Orientation-missing.jpg.xml" <<'XML'
 XML
 echo '{"crs": "EPSG:2154", "cameras": {"format": "micmac", "orientations": "Ori-T/", "images": "img/"}}' >"$mm/scene.json"
 run convert-micmac cameras convert "$mm/scene.json" -o "$mm/out/cameras.json"
-expect_rc "cameras convert (micmac, one image missing)" 1
+expect_rc "cameras convert (micmac, one image missing)" 3
 expect_out "cameras convert (micmac, one image missing)" "Orientation-missing.jpg.xml.*missing.jpg.*not found"
 expect_out "cameras convert (micmac, one image missing)" "wrote 1 camera"
 check "cameras convert (micmac): centre in Lambert-93" python3 - "$mm/out/cameras.json" <<'PY'
@@ -214,6 +225,21 @@ c = json.load(open(sys.argv[1]))["cameras"][0]
 x, y, z = c["center"]
 assert 100000 < x < 1300000 and 6000000 < y < 7200000, c["center"]
 PY
+# A photograph whose file name is not UTF-8 (JSON cannot hold it): that camera alone is left out.
+mm2=$DIR/micmac-utf8
+mkdir -p "$mm2"
+cp -r "$mm/Ori-T" "$mm/img" "$mm/scene.json" "$mm2/"
+rm "$mm2/Ori-T/Orientation-missing.jpg.xml"
+cp "$mm/img/a.jpg" "$mm2/img/"$'\xff'".jpg"
+cp "$mm/Ori-T/Orientation-a.jpg.xml" "$mm2/Ori-T/Orientation-"$'\xff'".jpg.xml"
+run convert-utf8 cameras convert "$mm2/scene.json" -o "$mm2/out/cameras.json"
+expect_rc "cameras convert with a file name that is not UTF-8" 3
+expect_out "cameras convert with a file name that is not UTF-8" "not valid UTF-8.*left out"
+expect_out "cameras convert with a file name that is not UTF-8" "wrote 1 camera"
+run web-utf8 web-export "$mm2/scene.json" "$mm2/web" --page "$DIR/none" --wasm "$DIR/none"
+expect_rc "web-export with a file name that is not UTF-8" 3
+expect_out "web-export with a file name that is not UTF-8" "not valid UTF-8"
+check "web-export with a file name that is not UTF-8: the other photograph published" test "$(ls "$mm2/web/images" | wc -l)" = 1
 run info-micmac info "$mm/scene.json"
 expect_out "info (micmac)" "Lambert-93 \\(EPSG:2154\\)"
 expect_out "info (micmac)" "cameras from .*EPSG:4978"
@@ -236,6 +262,203 @@ expect_out "settings --json" '"name": "depth-size"'
 run bad-k render "$city/scene.json" --views "$city/views.json" --out "$DIR/rbadk" --k 0
 expect_rc "render --k 0" fail
 expect_out "render --k 0" "--k.*a whole number >= 1"
+check "render --k 0: no 309-digit range" bash -c "! grep -qE '[0-9]{30}' '$out'"
+
+# --- exit statuses (docs/reliability.md): --strict stops before rendering when an item is left out
+run strict render "$city/scene-badrot.json" --views "$city/views.json" --out "$DIR/rstrict" --k 4 --size 160x120 --strict
+expect_rc "render --strict with one bad photo camera" 1
+expect_out "render --strict with one bad photo camera" "strict.*left out"
+check "render --strict: nothing written" test ! -e "$DIR/rstrict/${ids[0]}.png"
+
+# Option values that used to mean something else, or print a 309-digit range, are refused by name.
+for sigma in 0 -1 nan inf 1e200; do
+  run "sigma$sigma" render "$city/scene.json" --views "$city/views.json" --out "$DIR/rsigma" --sigma="$sigma"
+  expect_rc "render --sigma $sigma" fail
+  expect_out "render --sigma $sigma" "--sigma: expected a number"
+done
+check "--sigma refused: nothing written" test ! -e "$DIR/rsigma"
+run exclude render "$city/scene.json" --views "$city/views.json" --out "$DIR/rexcl" --k 4 --size 160x120 \
+  --exclude no-such-photo
+expect_rc "render --exclude with an unknown id" 0
+expect_out "render --exclude with an unknown id" "exclude.*no-such-photo"
+# Views too large: refused naming the size and the limit, the other views still rendered.
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+views = json.load(open(f"{city}/views.json"))
+big = dict(views["cameras"][0]); big["id"] = "huge"
+for k in ("width", "height"): big[k] = big[k] * 100
+big["focal"] = [f * 100 for f in big["focal"]]; big["principal"] = [p * 100 for p in big["principal"]]
+views["cameras"].append(big)
+json.dump(views, open(f"{city}/views-huge.json", "w"))
+PY
+run huge render "$city/scene.json" --views "$city/views-huge.json" --out "$DIR/rhuge" --k 4
+expect_rc "render a view beyond MAX_TEXTURE_SIZE" 1
+expect_out "render a view beyond MAX_TEXTURE_SIZE" "huge.*MAX_TEXTURE_SIZE"
+check "render a huge view: the others still written" test -s "$DIR/rhuge/${ids[0]}.png"
+
+# An empty cameras file is said as such.
+echo '{"cameras": []}' >"$city/cameras-empty.json"
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-empty.json"
+json.dump(scene, open(f"{city}/scene-nocams.json", "w"))
+PY
+run nocams render "$city/scene-nocams.json" --views "$city/views.json" --out "$DIR/rnocams" --k 4 --size 160x120
+expect_out "render with an empty cameras file" "no photograph loaded"
+
+# --- output paths are ours: hostile view ids never write outside --out; duplicates do not overwrite
+escape=/tmp/hv-cli-escape-$$
+python3 - "$city" "$escape" <<'PY'
+import json, sys
+city, escape = sys.argv[1], sys.argv[2]
+views = json.load(open(f"{city}/views.json"))
+base = views["cameras"][0]
+hostile = ["../../escaped", escape, "a/b", ".hidden", "v" * 300, "dup", "dup", "DUP"]
+views["cameras"] = [dict(base, id=i) for i in hostile]
+json.dump(views, open(f"{city}/views-hostile.json", "w"))
+PY
+sandbox=$DIR/sandbox/one/two
+mkdir -p "$sandbox"
+run hostile render "$city/scene.json" --views "$city/views-hostile.json" --out "$sandbox/out" --k 4 --size 160x120
+expect_rc "render with hostile view ids" 0
+expect_out "render with hostile view ids" "note: view id '../../escaped' written as"
+check "hostile ids: 8 views, 8 files, all inside --out" test "$(find "$sandbox/out" -name '*.png' | wc -l)" = 8
+check "hostile ids: nothing outside --out" test "$(find "$DIR/sandbox" -type f | grep -vc "^$sandbox/out/")" = 0
+check "hostile ids: no absolute path written" test ! -e "$escape.png"
+check "hostile ids: no hidden file" test "$(find "$sandbox/out" -name '.*' | wc -l)" = 0
+check "hostile ids: names of at most 255 bytes" bash -c "find '$sandbox/out' -type f -printf '%f\n' | LC_ALL=C awk 'length > 255 { bad = 1 } END { exit bad }'"
+
+# --- web-export publishes only what it decoded: a mask naming a text file, a PNG bomb, are left out
+secret=$DIR/secret.txt
+echo 'root:x:0:0:root:/root:/bin/bash' >"$secret"
+python3 - "$city" "$secret" <<'PY'
+import json, struct, sys, zlib
+city, secret = sys.argv[1], sys.argv[2]
+# An 8000x8000 grey PNG of zeros: ~60 KB on disk, ~1 GiB for the decoder.
+w = h = 8000
+def chunk(t, d): return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+z = zlib.compressobj(9)
+row = b"\0" * (w + 1)
+idat = b"".join(z.compress(row) for _ in range(h)) + z.flush()
+with open(f"{city}/bomb.png", "wb") as f:
+    f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0)) + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
+cams = json.load(open(f"{city}/cameras.json"))
+cams["cameras"][0]["mask"] = secret
+cams["cameras"][1]["image"] = "bomb.png"
+cams["cameras"][1]["width"], cams["cameras"][1]["height"] = w, h
+cams["cameras"][1]["focal"] = [w, w]; cams["cameras"][1]["principal"] = [w / 2, h / 2]
+json.dump(cams, open(f"{city}/cameras-hostile.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-hostile.json"
+json.dump(scene, open(f"{city}/scene-hostile.json", "w"))
+PY
+read -r cam0 cam1 < <(python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cameras"]; print(c[0]["id"], c[1]["id"])' "$city/cameras.json")
+web=$DIR/sandbox-web/out
+mkdir -p "$DIR/sandbox-web"
+# Within a 3 GiB address space (the bomb alone would ask the decoder for about 1 GiB, 30000 x 30000 for 3.6).
+(ulimit -v 3145728; exec "$HV" web-export "$city/scene-hostile.json" "$web" --page "$DIR/none" --wasm "$DIR/none") \
+  >"$DIR/web-hostile.out" 2>&1
+rc=$?
+out=$DIR/web-hostile.out
+expect_rc "web-export with a text file as mask and a PNG bomb" 3
+expect_out "web-export with a text file as mask and a PNG bomb" "$cam0.*secret.txt.*left out of the export"
+expect_out "web-export with a text file as mask and a PNG bomb" "$cam1.*bomb.png.*limit.*left out of the export"
+check "web-export: the text file is not published" bash -c "! grep -rq 'root:x:0' '$web'"
+check "web-export: the rest is published" test "$(ls "$web/images" | wc -l)" = 10
+check "web-export: nothing outside its folder" test "$(find "$DIR/sandbox-web" -type f | grep -vc "^$web/")" = 0
+
+# --- check: 0 for a clean scene, 1 naming what would be left out, 2 when the scene cannot load
+run check-clean check "$city/scene.json"
+expect_rc "check on the demo city" 0
+expect_out "check on the demo city" "12 photograph\\(s\\).*0 item"
+run check-deep check "$city/scene.json" --deep --json
+expect_rc "check --deep --json on the demo city" 0
+check "check --json is JSON with no problems" python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["problems"] == 0 and r["photographs"] == 12' "$out"
+run check-hostile check "$city/scene-hostile.json" --deep
+expect_rc "check on a scene with a text mask and a PNG bomb" 1
+expect_out "check on a scene with a text mask and a PNG bomb" "^masks"
+expect_out "check on a scene with a text mask and a PNG bomb" "$cam0.*mask.*secret.txt"
+expect_out "check on a scene with a text mask and a PNG bomb" "$cam1.*bomb.png.*limit"
+run check-missing check "$DIR/not-json.json"
+expect_rc "check on a scene.json that is not JSON" 2
+
+# --- outliers: one camera at 1e9 does not black out the views
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+cams = json.load(open(f"{city}/cameras.json"))
+far = dict(cams["cameras"][0], id="far-away", center=[1e9, 1e9, 1e9])
+cams["cameras"].append(far)
+json.dump(cams, open(f"{city}/cameras-far.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-far.json"
+scene.pop("origin", None)
+json.dump(scene, open(f"{city}/scene-far.json", "w"))
+PY
+run far render "$city/scene-far.json" --views "$city/views.json" --out "$DIR/rfar" --k 4 --size 160x120
+expect_rc "render with a camera at 1e9" 0
+expect_out "render with a camera at 1e9" "far-away.*left out of the render origin"
+mean_png() {  # mean of an 8-bit RGB PNG's samples (no PIL here)
+  python3 - "$1" <<'PY'
+import struct, sys, zlib
+d = open(sys.argv[1], "rb").read(); pos = 8; idat = b""
+while pos < len(d):
+    n, t = struct.unpack(">I4s", d[pos:pos + 8]); body = d[pos + 8:pos + 8 + n]; pos += 12 + n
+    if t == b"IHDR": w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
+    if t == b"IDAT": idat += body
+raw = zlib.decompress(idat); bpp = 3; stride = w * bpp; prev = bytearray(stride); total = 0; i = 0
+for y in range(h):
+    f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
+    for x in range(stride):
+        a = line[x - bpp] if x >= bpp else 0; b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+        p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+        pred = [0, a, b, (a + b) // 2, a if pa <= pb and pa <= pc else (b if pb <= pc else c)][f]
+        line[x] = (line[x] + pred) & 255
+    total += sum(line); prev = line
+print(total / (w * h * 3))
+PY
+}
+clean_mean=$(mean_png "$DIR/r160/${ids[0]}.png")
+far_mean=$(mean_png "$DIR/rfar/${ids[0]}.png")
+check "a camera at 1e9: the view is as bright as without it ($far_mean vs $clean_mean)" \
+  python3 -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); assert b > 5 and abs(a - b) < 0.05 * b" "$far_mean" "$clean_mean"
+
+# --- a scene crs PROJ cannot read is named once, not blamed on each source
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+scene = json.load(open(f"{city}/scene.json"))
+scene["crs"] = "EPSG:999999"
+json.dump(scene, open(f"{city}/scene-badcrs.json", "w"))
+scene["crs"] = 12345
+json.dump(scene, open(f"{city}/scene-numcrs.json", "w"))
+PY
+run badcrs info "$city/scene-badcrs.json"
+expect_rc "info with a scene crs PROJ cannot read" 2
+expect_out "info with a scene crs PROJ cannot read" "scene-badcrs.json: crs:"
+check "a bad scene crs is named once" test "$(grep -c 'EPSG:999999' "$out")" = 1
+run numcrs info "$city/scene-numcrs.json"
+expect_rc "info with a numeric scene crs" 2
+expect_out "info with a numeric scene crs" "crs: expected a CRS string"
+
+# --- info never aborts: a photograph that is a symlink loop is named, the summary still printed
+ln -sf loop-b "$city/loop-a"; ln -sf loop-a "$city/loop-b"
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+cams = json.load(open(f"{city}/cameras.json"))
+cams["cameras"][2]["image"] = "loop-a"
+json.dump(cams, open(f"{city}/cameras-loop.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-loop.json"
+json.dump(scene, open(f"{city}/scene-loop.json", "w"))
+PY
+run info-loop info "$city/scene-loop.json"
+expect_rc "info with a symlink loop as a photograph" fail
+expect_out "info with a symlink loop as a photograph" "loop-a"
 
 echo "cli test took $((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"

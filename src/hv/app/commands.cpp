@@ -1,9 +1,11 @@
 #include "hv/app/commands.h"
 
 #include "hv/app/cameras_command.h"
+#include "hv/app/check_command.h"
 #include "hv/app/demo_command.h"
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
+#include "hv/session/outputs.h"
 #include "hv/app/render_command.h"
 #include "hv/app/settings_command.h"
 #include "hv/app/view_command.h"
@@ -18,7 +20,9 @@ int g_exit = 0;
 }
 
 void registerCommands(CLI::App& app) {
+  app.footer(exitStatusHelp());
   addInfoCommand(app, g_exit);
+  addCheckCommand(app, g_exit);
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
   addFlyCommand(app, g_exit);

@@ -1,6 +1,7 @@
 #include "hv/app/eval_command.h"
 
 #include "hv/session/session.h"
+#include "hv/session/outputs.h"
 #include "hv/eval/evaluate.h"
 #include "hv/eval/seams.h"
 #include "hv/image/image.h"
@@ -9,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 
@@ -57,8 +59,7 @@ int runSeams(const EvalCommandOptions& o) {
     }
   }
   std::cout << eval::formatSeamTable(all);
-  if (all.empty()) return 2;
-  return diag.ok() ? 0 : 1;
+  return exitStatus(diag, all.empty() ? 1 : 0);
 }
 
 int runEval(const EvalCommandOptions& o) {
@@ -80,8 +81,12 @@ int runEval(const EvalCommandOptions& o) {
   std::unique_ptr<Session> s = openSession(o.view, diag);
   // Leave-one-out: each photograph is a view, rendered from the others.
   const std::vector<Photo>& views = o.leaveOneOut ? s->scene.photos : s->views;
+  // Views that could not be scored are outputs not produced; what the loaders left out before is
+  // left out (docs/reliability.md).
+  const size_t leftOutBefore = diag.errors.size();
   const eval::EvalReport report =
       eval::evaluate(*s->renderer, views, opt, diag, [](const std::string& l) { std::cerr << l << "\n"; });
+  const size_t notScored = diag.errors.size() - leftOutBefore;
   std::cout << eval::formatTable(report);
   if (!o.json.empty()) {
     std::ofstream f(o.json);
@@ -89,8 +94,7 @@ int runEval(const EvalCommandOptions& o) {
     f << eval::toJson(report).dump(2) << "\n";
     std::cout << "wrote " << o.json << "\n";
   }
-  if (report.rows.empty()) return 2;
-  return diag.ok() ? 0 : 1;
+  return exitStatus(diag, report.rows.empty() ? std::max<size_t>(notScored, 1) : notScored);
 }
 
 }  // namespace

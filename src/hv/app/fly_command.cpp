@@ -1,6 +1,7 @@
 #include "hv/app/fly_command.h"
 
 #include "hv/session/session.h"
+#include "hv/session/outputs.h"
 #include "hv/camera/camera_path.h"
 #include "hv/io/camera_path_json.h"
 #include "hv/image/image.h"
@@ -20,6 +21,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 extern char** environ;
@@ -79,15 +81,15 @@ struct FlyOptions {
 int runFly(const FlyOptions& o) {
   Diagnostics diag;
   // Everything that can be checked without the scene is checked first.
-  std::vector<Camera> frames;
+  std::optional<PathFrames> frames;
+  Camera first;
   try {
-    const CameraPath path = readCameraPath(o.path, diag);
-    frames = pathFrames(path, o.fps);
-    for (auto& f : frames) f = resizeView(f, o.view.size);
+    frames.emplace(readCameraPath(o.path, diag), o.fps);
+    first = resizeView((*frames)[0], o.view.size);  // every frame has the keys' size
     renderSettings(o.view);  // the option values (dates, colour)
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    std::cerr << "error: " << o.path << ": " << e.what() << "\n";
+    return kExitNoScene;
   }
   std::string ffmpeg;
   if (!o.video.empty()) {
@@ -97,17 +99,18 @@ int runFly(const FlyOptions& o) {
           << "warning: --video: ffmpeg is not on PATH; the frames will be written as PNGs but not encoded\n";
   }
   const std::unique_ptr<Session> s = openSession(o.view, diag);
-  std::cout << "flying " << frames.size() << " frame(s) of " << frames.front().width << "x"
-            << frames.front().height << " at " << o.fps << " fps ("
-            << (o.progressive ? "progressive" : "converged") << " frames) to " << o.out << "\n";
-  const FlyResult r = flyPath(*s->renderer, frames, o.out, o.progressive,
-                              [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; });
+  std::cout << "flying " << frames->size() << " frame(s) of " << first.width << "x" << first.height << " at "
+            << o.fps << " fps (" << (o.progressive ? "progressive" : "converged") << " frames) to " << o.out
+            << "\n";
+  const FlyResult r = flyPath(
+      *s->renderer, frames->size(), [&](int i) { return resizeView((*frames)[i], o.view.size); }, o.out,
+      o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; });
   std::cerr << "\n";
   std::cout << "wrote " << r.frames << " frame(s) to " << o.out << " in " << std::fixed
             << std::setprecision(1) << r.totalMs / 1000.0 << " s";
   if (o.progressive) std::cout << " (" << r.convergedFrames << " converged)";
   std::cout << "\n";
-  const int code = diag.ok() ? 0 : 1;
+  const int code = exitStatus(diag);
   if (!o.video.empty()) {
     const auto args = ffmpegArguments(ffmpeg.empty() ? "ffmpeg" : ffmpeg, o.out, o.fps, r.frames, o.video);
     std::string command;
@@ -136,18 +139,27 @@ int runFly(const FlyOptions& o) {
 
 FlyResult flyPath(render::Renderer& renderer, const std::vector<Camera>& frames, const std::string& outDir,
                   bool progressive, const FlyProgress& progress) {
+  return flyPath(
+      renderer, int(frames.size()), [&](int i) { return frames[size_t(i)]; }, outDir, progressive, progress);
+}
+
+FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Camera(int)>& frame,
+                  const std::string& outDir, bool progressive, const FlyProgress& progress) {
   using clock = std::chrono::steady_clock;
   fs::create_directories(outDir);
   FlyResult result;
+  OutputNames names;
   const auto start = clock::now();
   const render::FrameMode mode = progressive ? render::FrameMode::Progressive : render::FrameMode::Batch;
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const Camera& cam = frames[i];
+  for (int i = 0; i < count; ++i) {
+    const Camera cam = frame(i);
     const auto t0 = clock::now();
     FlyFrame f;
-    f.index = int(i);
-    f.total = int(frames.size());
-    f.file = (fs::path(outDir) / (cam.id + ".png")).string();
+    f.index = i;
+    f.total = count;
+    std::string note;
+    f.file = (fs::path(outDir) / (names.stem(cam.id, &note) + ".png")).string();
+    if (!note.empty()) std::cerr << "note: frame " << note << "\n";
     try {
       const render::RenderOutput out = renderer.render(cam, false, mode);
       writePng(f.file, rgbOf(out.rgba));

@@ -37,11 +37,16 @@ struct FlyResult {
   double totalMs = 0.0;
 };
 
-// Renders every camera in order to outDir/<id>.png (RGB; outDir is created). `progressive`: one
-// FrameMode::Progressive call per frame, as a viewer would make; otherwise FrameMode::Batch, each
-// frame converged. Throws what the renderer or the PNG writer throws, naming the frame.
+// Renders every camera in order to outDir/<id>.png (RGB; outDir is created; ids made safe file
+// names by OutputNames, hv/app/outputs.h). `progressive`: one FrameMode::Progressive call per
+// frame, as a viewer would make; otherwise FrameMode::Batch, each frame converged. Throws what the
+// renderer or the PNG writer throws, naming the frame.
 FlyResult flyPath(render::Renderer& renderer, const std::vector<Camera>& frames, const std::string& outDir,
                   bool progressive, const FlyProgress& progress = {});
+// The same with frames made one at a time (`frame(i)` for i in [0, count)): a long path is never
+// held whole.
+FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Camera(int)>& frame,
+                  const std::string& outDir, bool progressive, const FlyProgress& progress = {});
 
 // One line of the progress bar, starting with '\r' so that each redraws the last:
 // "\r[########------------] frame 12/100  12%   85 ms/frame  ETA 0:07".

@@ -1,6 +1,8 @@
 #include "hv/app/render_command.h"
 
 #include "hv/session/session.h"
+#include "hv/app/check_command.h"
+#include "hv/session/outputs.h"
 #include "hv/gpu/gl.h"
 #include "hv/image/colormap.h"
 #include "hv/io/native/georef.h"
@@ -14,6 +16,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <new>
 #include <sstream>
 
 namespace hv::app {
@@ -49,15 +52,31 @@ void printPoints(const PointCloud& points) {
   }
 }
 
+int printInfo(const std::string& scenePath, const Scene& scene, const CheckReport& report);
+
 int runInfo(const std::string& scenePath) {
-  Diagnostics diag;
+  // The checks of `histoview check` first (headers only), so a broken photograph is named before
+  // the summary; then the summary. An exception anywhere (a file system error on a symlink loop or
+  // a name too long, memory) becomes a message naming what was being read, never an abort.
   Scene scene;
+  CheckReport report;
+  const int loaded = runChecks(scenePath, CheckOptions{}, scene, report, std::cerr);
+  if (loaded == kExitNoScene) return kExitNoScene;
   try {
-    scene = loadScene(scenePath, diag);
-  } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return printInfo(scenePath, scene, report);
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "error: " << scenePath << ": while reading " << e.path1().string() << ": " << e.code().message()
+              << "\n";
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: " << scenePath << ": out of memory while summarising the scene\n";
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << scenePath << ": " << e.what() << "\n";
   }
+  return kExitNotProduced;
+}
+
+int printInfo(const std::string& scenePath, const Scene& scene, const CheckReport& report) {
+  std::cout << report.text();
   std::cout << "scene      " << scenePath << "\n";
   auto crsText = [](const std::string& crs) {
     try {
@@ -104,8 +123,8 @@ int runInfo(const std::string& scenePath) {
   } catch (const std::exception& e) {
     std::cout << "GL         unavailable: " << e.what() << "\n";
   }
-  if (!diag.ok()) std::cout << diag.errors.size() << " input error(s), listed above\n";
-  return diag.ok() ? 0 : 1;
+  if (report.problems()) std::cout << report.problems() << " item(s) left out, listed above\n";
+  return report.problems() ? kExitLeftOut : kExitOk;
 }
 
 struct RenderOptions {
@@ -138,15 +157,21 @@ int runRender(const RenderOptions& o) {
   applyDebugOption(o.view.debug, s->scene, debug);
   const bool counts = debug.view == render::DebugView::Counts;  // the count and loop-length outputs
   fs::create_directories(o.out);
+  const int maxTextureSize = gpu::queryLimits().maxTextureSize;
+  OutputNames names;  // file names are ours: a view id never names a path (docs/reliability.md)
   int failed = 0;
   for (size_t i = 0; i < s->views.size(); ++i) {
     const Photo& v = s->views[i];
     try {
       const Camera cam = resizeView(v.camera, o.view.size);
+      if (const std::string problem = viewSizeProblem(cam, maxTextureSize); !problem.empty())
+        throw std::invalid_argument(problem);
+      std::string note;
+      const std::string base = (fs::path(o.out) / names.stem(v.camera.id, &note)).string();
+      if (!note.empty()) std::cerr << "note: view " << note << "\n";
       const auto result = s->renderer->render(cam, counts);
       const Image8 rgb = rgbOf(result.rgba);
       const Image8 cov = alphaMask(result.rgba);
-      const std::string base = (fs::path(o.out) / v.camera.id).string();
       writePng(base + ".png", rgb);
       if (o.coverage) writePng(base + ".coverage.png", cov);
       if (counts) {
@@ -160,14 +185,16 @@ int runRender(const RenderOptions& o) {
       std::cout << "[" << (i + 1) << "/" << s->views.size() << "] " << base << ".png  (" << cam.width << "x"
                 << cam.height << ", " << s->renderer->lastPlan().images.size() << " images, " << std::fixed
                 << std::setprecision(0) << s->renderer->stats().lastFrameMs << " ms)\n";
+    } catch (const std::bad_alloc&) {
+      std::cerr << "error: view '" << v.camera.id << "': out of memory (not written)\n";
+      ++failed;
     } catch (const std::exception& e) {
-      std::cerr << "error: view '" << v.camera.id << "': " << e.what() << "\n";
+      std::cerr << "error: view '" << v.camera.id << "': " << e.what() << " (not written)\n";
       ++failed;
     }
   }
   std::cout << "wrote " << (s->views.size() - size_t(failed)) << " view(s) to " << o.out << "\n";
-  if (failed) return 1;
-  return diag.ok() ? 0 : 1;
+  return exitStatus(diag, size_t(failed));
 }
 
 }  // namespace
@@ -176,6 +203,7 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand("info", "print what a scene contains and the GL limits of the context");
   auto path = std::make_shared<std::string>();
   cmd->add_option("scene", *path, "scene.json")->required()->check(CLI::ExistingFile);
+  cmd->footer(exitStatusHelp());
   cmd->callback([path, &exitCode] { exitCode = runInfo(*path); });
 }
 

@@ -1,7 +1,10 @@
 #include "hv/app/web_export_command.h"
 
 #include "hv/session/session.h"
+#include "hv/session/checks.h"
+#include "hv/session/outputs.h"
 #include "hv/image/image.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/io/web_scene.h"
@@ -9,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -25,14 +29,6 @@ namespace hv::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-// The first bytes of a file: JPEGs are copied as they are, anything else is re-encoded.
-bool isJpegFile(const fs::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  unsigned char b[3] = {0, 0, 0};
-  f.read(reinterpret_cast<char*>(b), 3);
-  return f && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff;
-}
 
 std::string indexName(size_t i) {
   std::ostringstream s;
@@ -62,30 +58,46 @@ int runWebExport(const WebExportOptions& o) {
   fs::create_directories(out / "images");
   std::vector<Photo> photos;
   bool anyMask = false;
+  // Only what was decoded is published: every photograph and mask is decoded under the
+  // renderer's loader cap (a small file can decode to gigabytes) and re-encoded, so neither a file
+  // that is not an image (a mask path naming /etc/passwd) nor one too large ever reaches the folder.
+  const std::size_t cap = render::RenderSettings{}.decodeMemoryBytes;
   for (size_t i = 0; i < scene.photos.size(); ++i) {
     Photo p = scene.photos[i];
+    const fs::path image = out / "images" / (indexName(i) + ".jpg");
+    const fs::path mask = out / "masks" / (indexName(i) + ".png");
     try {
-      const fs::path image = out / "images" / (indexName(i) + ".jpg");
-      if (isJpegFile(p.imagePath)) {
-        fs::copy_file(p.imagePath, image, fs::copy_options::overwrite_existing);
-      } else {
-        Image8 decoded = readImage(p.imagePath);
-        if (decoded.channels == 4) decoded = rgbOf(decoded);
-        if (decoded.channels == 2) decoded = readImage(p.imagePath, 3);
-        writeJpeg(image.string(), decoded, o.jpegQuality);
-      }
-      p.imagePath = image.string();
+      for (const std::string* text : {&p.camera.id, &p.imagePath, &p.maskPath})
+        if (!validUtf8(*text))
+          throw InputError("'" + safeFileStem(*text) + "': not valid UTF-8 (the export's JSON cannot name it)");
+      const Image8 colour = decodeImageCapped(p.imagePath, cap, 3);
+      Image8 alpha;
       if (!p.maskPath.empty()) {
-        // Masks stay lossless: copied as they are (PNG, or JPEG when given so).
+        alpha = decodeImageCapped(p.maskPath, cap, 1);
+        const double aspect = double(colour.width) / colour.height;
+        if (std::abs(double(alpha.width) / alpha.height - aspect) > 0.01 * aspect)
+          throw InputError(inputMessage(p.maskPath, "mask",
+                                        "is " + std::to_string(alpha.width) + "x" + std::to_string(alpha.height) +
+                                            ", expected the photograph's aspect ratio (" +
+                                            std::to_string(colour.width) + "x" + std::to_string(colour.height) +
+                                            ")"));
+      }
+      writeJpeg(image.string(), colour, o.jpegQuality);
+      p.imagePath = image.string();
+      if (!alpha.empty()) {
+        // Masks stay lossless.
         if (!anyMask) fs::create_directories(out / "masks");
         anyMask = true;
-        const fs::path mask = out / "masks" / (indexName(i) + fs::path(p.maskPath).extension().string());
-        fs::copy_file(p.maskPath, mask, fs::copy_options::overwrite_existing);
+        writePng(mask.string(), alpha);
         p.maskPath = mask.string();
       }
       photos.push_back(std::move(p));
     } catch (const std::exception& e) {
-      diag.error("camera '" + p.camera.id + "': " + e.what() + " (left out of the export)");
+      std::error_code ec;  // nothing half-written stays behind
+      fs::remove(image, ec);
+      fs::remove(mask, ec);
+      const std::string id = validUtf8(p.camera.id) ? p.camera.id : safeFileStem(p.camera.id);
+      diag.error("camera '" + id + "': " + e.what() + " (left out of the export)");
     }
   }
   writeWebScene(scene, photos, out.string());
@@ -93,8 +105,15 @@ int runWebExport(const WebExportOptions& o) {
     CameraFileOptions viewOpts;
     viewOpts.requireImages = false;
     viewOpts.checkImageFiles = false;
-    std::vector<Photo> views = readCameraFile(o.viewsPath, viewOpts, diag);
-    for (auto& v : views) v.imagePath.clear(), v.maskPath.clear();
+    std::vector<Photo> views;
+    for (Photo& v : readCameraFile(o.viewsPath, viewOpts, diag)) {
+      if (!validUtf8(v.camera.id)) {
+        diag.error(o.viewsPath + ": view '" + safeFileStem(v.camera.id) + "': id is not valid UTF-8 (left out)");
+        continue;
+      }
+      v.imagePath.clear(), v.maskPath.clear();
+      views.push_back(std::move(v));
+    }
     std::ofstream(out / "views.json") << cameraJson(views, out.string());
   }
 
@@ -118,7 +137,7 @@ int runWebExport(const WebExportOptions& o) {
               << "): build it with tools/web-build.sh, then export again\n";
   for (const auto& w : diag.warnings) std::cerr << "warning: " << w << "\n";
   for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
-  return diag.ok() ? 0 : 1;
+  return exitStatus(diag);
 }
 
 void addWebExportCommand(CLI::App& app, int& exitCode) {

@@ -24,7 +24,7 @@ struct WebExportOptions {
   // At most this many of the scene's points (hv::subsampleChunks: a uniform subsample); 0: all.
   std::size_t maxPoints = 0;
 };
-// Returns the exit code (0: written; 1: written with errors reported).
+// Returns the exit status (hv/app/outputs.h): 0 written, 3 written with items left out (named).
 int runWebExport(const WebExportOptions& o);
 
 }  // namespace hv::app

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <utility>
 
 namespace hv {
 
@@ -112,23 +114,35 @@ std::string frameId(int index) {
 
 int pathFrameCount(const CameraPath& path, double fps) {
   if (!(fps > 0.0) || !std::isfinite(fps)) throw std::invalid_argument("fps: expected a positive number");
-  const double n = std::floor((path.endTime() - path.startTime()) * fps + 1e-9) + 1.0;
-  if (n > 1e7)
-    throw std::invalid_argument("the path would have " + std::to_string(n) + " frames (more than 10^7)");
+  const double seconds = path.endTime() - path.startTime();
+  const double n = std::floor(seconds * fps + 1e-9) + 1.0;
+  if (!(n <= double(kMaxPathFrames))) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the path would have %.4g frames (%.6g s at %.6g fps), more than the limit of %d; lower --fps "
+                  "or the keys' times",
+                  n, seconds, fps, kMaxPathFrames);
+    throw std::invalid_argument(text);
+  }
   return int(n);
 }
 
-std::vector<Camera> pathFrames(const CameraPath& path, double fps) {
-  const int n = pathFrameCount(path, fps);
-  std::vector<Camera> frames;
-  frames.reserve(size_t(n));
-  for (int i = 0; i < n; ++i) {
-    // t0 + i / fps rather than accumulating 1/fps, so rounding does not drift along the path.
-    frames.push_back(path.at(std::min(path.startTime() + i / fps, path.endTime())));
-    frames.back().id = frameId(i);
-  }
-  return frames;
+PathFrames::PathFrames(CameraPath path, double fps)
+    : path_(std::move(path)), fps_(fps), count_(pathFrameCount(path_, fps)) {}
+
+Camera PathFrames::operator[](int index) const {
+  // t0 + i / fps rather than accumulating 1/fps, so rounding does not drift along the path.
+  Camera c = path_.at(std::min(path_.startTime() + index / fps_, path_.endTime()));
+  c.id = frameId(index);
+  return c;
 }
 
+std::vector<Camera> pathFrames(const CameraPath& path, double fps) {
+  const PathFrames lazy(path, fps);
+  std::vector<Camera> frames;
+  frames.reserve(size_t(lazy.size()));
+  for (int i = 0; i < lazy.size(); ++i) frames.push_back(lazy[i]);
+  return frames;
+}
 
 }  // namespace hv

@@ -54,11 +54,33 @@ class CameraPath {
   size_t segment(double t) const;  // i such that t_i <= t <= t_i+1 (0 for a single key)
 };
 
+// The most frames one path may have: 11 hours at 25 fps. More is a mistyped --fps or `t`, and
+// would take weeks to render (a frame of a real scene takes 0.1 to 1 s).
+inline constexpr int kMaxPathFrames = 1'000'000;
+
 // Frames at t0, t0 + 1/fps, ... up to and including the last key time:
 // floor((tEnd - t0) * fps) + 1 of them (the product is nudged by 1e-9 so that, e.g., 0.3 s at
-// 10 fps gives 4 frames despite 0.3 * 10 = 2.9999999999999996). fps must be positive.
+// 10 fps gives 4 frames despite 0.3 * 10 = 2.9999999999999996). fps must be positive. Throws
+// std::invalid_argument naming the count, the path's duration and kMaxPathFrames when there would
+// be more than that.
 int pathFrameCount(const CameraPath& path, double fps);
-// The frame cameras, ids f00000, f00001, ...; frame i at t0 + i / fps.
+
+// The frames of a path, made one at a time when asked for (a long path is never held whole):
+// frame i is the camera at t0 + i / fps, id frameId(i).
+class PathFrames {
+ public:
+  PathFrames(CameraPath path, double fps);  // throws as pathFrameCount
+  int size() const { return count_; }
+  Camera operator[](int index) const;  // index in [0, size())
+
+ private:
+  CameraPath path_;
+  double fps_;
+  int count_;
+};
+
+// The frame cameras, ids f00000, f00001, ...; frame i at t0 + i / fps (all of them at once: for
+// short paths and tests; `fly` uses PathFrames).
 std::vector<Camera> pathFrames(const CameraPath& path, double fps);
 std::string frameId(int index);
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 
 namespace hv {
@@ -157,6 +158,42 @@ TEST(CameraPath, FrameCountIsFloorOfDurationTimesFpsPlusOne) {
   EXPECT_EQ(frames[0].center, path.position(1.5));
   EXPECT_LT(glm::length(frames[7].center - path.position(1.5 + 7.0 / 7.0)), 1e-12);
   EXPECT_EQ(frameId(123456), "f123456");
+}
+
+TEST(CameraPath, LongPathsAreMadeOneFrameAtATime) {
+  // 10 hours at 25 fps: 900,001 frames, none built until asked for (building them all up front
+  // took seconds and a camera's worth of memory per frame before the first was rendered).
+  const CameraPath path({key("a", 0.0, {0, 0, 0}), key("b", 36000.0, {1000, 0, 0})});
+  const auto t0 = std::chrono::steady_clock::now();
+  const PathFrames frames(path, 25.0);
+  ASSERT_EQ(frames.size(), 900001);
+  const Camera mid = frames[450000];
+  const Camera last = frames[900000];
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.05);
+  EXPECT_EQ(mid.id, "f450000");
+  EXPECT_LT(glm::length(mid.center - path.position(18000.0)), 1e-9);
+  EXPECT_EQ(last.center, path.position(36000.0));
+  // The same cameras as the eager list.
+  const CameraPath shortPath({key("a", 1.5, {0, 0, 0}), key("b", 3.7, {1, 0, 0})});
+  const auto eager = pathFrames(shortPath, 7);
+  const PathFrames lazy(shortPath, 7);
+  ASSERT_EQ(size_t(lazy.size()), eager.size());
+  for (int i = 0; i < lazy.size(); ++i) EXPECT_EQ(lazy[i].center, eager[size_t(i)].center);
+}
+
+TEST(CameraPath, AbsurdFrameCountsAreRefusedNamingTheLimit) {
+  // 10^7 frames (a `t` typed in milliseconds, or --fps 25000): refused before anything is built.
+  const CameraPath path({key("a", 0.0, {0, 0, 0}), key("b", 400000.0, {1, 0, 0})});
+  try {
+    PathFrames frames(path, 25.0);
+    FAIL() << "a path of 10^7 frames was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxPathFrames)), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--fps"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(pathFrameCount(path, 1e300), std::invalid_argument);
+  EXPECT_EQ(pathFrameCount(CameraPath({key("a", 0.0, {0, 0, 0}), key("b", 39999.0, {1, 0, 0})}), 25.0),
+            999976);  // just under the limit
 }
 
 // A PATH.json: cameras.json cameras with an optional t.

@@ -103,9 +103,9 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
         line << "  " << methodName(opt.methods[k]) << " " << s.psnr << " dB";
       }
       if (progress) progress(line.str());
-    } catch (const InputError& e) {
-      diag.error(std::string(e.what()) + " (view '" + id + "' not scored)");
-    } catch (const std::invalid_argument& e) {
+    } catch (const std::exception& e) {
+      // Any failure of one view (a file system error on its truth, memory, a renderer error) is
+      // that view's alone: the others are still scored (docs/reliability.md).
       diag.error(std::string(e.what()) + " (view '" + id + "' not scored)");
     }
   }

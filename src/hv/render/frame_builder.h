@@ -100,6 +100,7 @@ class FrameBuilder {
   ibr::CameraIndex index_;
   Aabb bounds_;          // geometry and camera centres: depth ranges
   Aabb geometryBounds_;  // geometry only: the frustum filter
+  Aabb inlierBounds_;    // robustExtent (hv/scene/robust_extent.h): what the two boxes above may cover
 
   SlotLayout layout_;
   ibr::SlotCache cache_;

@@ -4,6 +4,7 @@
 
 #include "hv/camera/frustum_outline.h"
 #include "hv/scene/chunks.h"
+#include "hv/scene/robust_extent.h"
 #include "hv/scene/point_colors.h"
 #include "hv/util/log.h"
 
@@ -12,6 +13,19 @@
 #include <stdexcept>
 
 namespace hv::render {
+
+namespace {
+
+// `box` limited to `limit` (unchanged when either is empty or they do not meet).
+Aabb clippedTo(const Aabb& box, const Aabb& limit) {
+  if (box.empty() || limit.empty()) return box;
+  Aabb c;
+  c.lo = glm::max(box.lo, limit.lo);
+  c.hi = glm::min(box.hi, limit.hi);
+  return c.empty() ? box : c;
+}
+
+}  // namespace
 
 void FrameBuilder::buildGeometry() {
   GeometryBuffers g;
@@ -44,6 +58,11 @@ void FrameBuilder::buildGeometry() {
     bounds_.extend(m->bounds());
   }
   // Padded so that flat geometry (a single wall, flat ground) still has a volume to sample.
+  // One absurd coordinate (an inf vertex, an unflagged no-data cell) never stretches the depth
+  // ranges until the picture is black: both boxes stop at the scene's inliers
+  // (hv/scene/robust_extent.h).
+  inlierBounds_ = robustExtent(scene_).bounds;
+  bounds_ = clippedTo(bounds_, inlierBounds_);
   geometryBounds_ = bounds_;
   if (!geometryBounds_.empty()) {
     const glm::dvec3 pad(1e-3 * glm::length(geometryBounds_.size()) + 1e-3);
@@ -51,6 +70,7 @@ void FrameBuilder::buildGeometry() {
     geometryBounds_.hi += pad;
   }
   for (const auto& p : scene_.photos) bounds_.extend(p.camera.center);
+  bounds_ = clippedTo(bounds_, inlierBounds_);
 
   const int n = std::max<int>(1, int(scene_.buildingValidity.size()));
   g.validityWidth = std::min(n, 1024);
@@ -127,7 +147,7 @@ void FrameBuilder::initPoints() {
     const double area = std::max(e[1] * e[2], 1e-6);
     chunkSpacing_.push_back(std::sqrt(area / std::max<std::uint32_t>(c.count, 1)));
   }
-  const Aabb pb = cloud.bounds();
+  const Aabb pb = clippedTo(cloud.bounds(), inlierBounds_);
   bounds_.extend(pb);
   geometryBounds_.extend(pb);
   pointsOn_ = true;

@@ -63,6 +63,7 @@ struct Entry {
   Entry& range(double lo, double hi) { s.min = lo; s.max = hi; return slider(lo, hi); }
   Entry& above(double lo) { s.min = lo; s.minExclusive = true; return *this; }
   Entry& atLeast(double lo) { s.min = lo; return *this; }
+  Entry& atMost(double hi) { s.max = hi; return *this; }
   Entry& slider(double lo, double hi, bool logarithmic = false) {
     s.sliderMin = lo;
     s.sliderMax = hi;
@@ -160,7 +161,7 @@ std::vector<Setting> makeSchema() {
                     [](auto& s) -> auto& { return s.blend.k; }).atLeast(1).slider(1, 32));
   t.push_back(field("sigma", blend, "sigma of the weight f(d) = 1/(sigma^2 + d^2); auto: the median spacing of the "
                     "camera centres", [](auto& s) -> auto& { return s.blend.sigma; })
-                  .unit("scene units").above(0).slider(0.01, 100, true).autoDefault());
+                  .unit("scene units").above(0).atMost(1e7).slider(0.01, 100, true).autoDefault());
   t.push_back(choice("blend-method", blend, "blend the K photographs, or per pixel the nearest that passes the tests",
                      {"blend", "nearest"}, [](auto& s) -> auto& { return s.blend.method; }));
   t.push_back(field("occlusion", blend, "the depth-map (shadow) test: a photograph does not texture what it cannot see",

@@ -54,14 +54,32 @@ void estimateNormals(PointCloud& cloud, const NormalEstimation& settings) {
   const size_t n = cloud.size();
   cloud.normals.assign(n, glm::vec3(0.0f));
   if (n == 0) return;
+  // Each distinct position once: a kd-tree search among many equal points visits every one of
+  // them (none is farther than the k-th), so a cloud of a million identical points (a scanner
+  // standing still) would take hours. Duplicates add nothing to the plane fit's directions; they
+  // get the normal of their position.
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  const auto& pos = cloud.positions;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const glm::dvec3 &pa = pos[a], &pb = pos[b];
+    if (pa.x != pb.x) return pa.x < pb.x;
+    if (pa.y != pb.y) return pa.y < pb.y;
+    return pa.z < pb.z;
+  });
+  std::vector<size_t> uniqueOf(n);  // point -> its distinct position
   Positions p;
-  p.pts = cloud.positions;
   const glm::dvec3 centre = cloud.bounds().center();
-  for (glm::dvec3& x : p.pts) x -= centre;
+  for (size_t r = 0; r < n; ++r) {
+    if (r == 0 || pos[order[r]] != pos[order[r - 1]]) p.pts.push_back(pos[order[r]] - centre);
+    uniqueOf[order[r]] = p.pts.size() - 1;
+  }
+  const size_t m = p.pts.size();
   Tree tree(3, p, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   const size_t k = size_t(std::clamp(settings.neighbours, 3, 256));
   const size_t wide = size_t(std::clamp(settings.wideNeighbours, int(k), 1024));
+  std::vector<glm::vec3> normals(m, glm::vec3(0.0f));
   auto work = [&](size_t begin, size_t end) {
     std::vector<size_t> idx(wide);
     std::vector<double> dist(wide);
@@ -69,17 +87,18 @@ void estimateNormals(PointCloud& cloud, const NormalEstimation& settings) {
       const double q[3] = {p.pts[i].x, p.pts[i].y, p.pts[i].z};
       std::optional<glm::vec3> nrm = normalOf(p, idx.data(), tree.knnSearch(q, k, idx.data(), dist.data()));
       if (!nrm && wide > k) nrm = normalOf(p, idx.data(), tree.knnSearch(q, wide, idx.data(), dist.data()));
-      cloud.normals[i] = nrm.value_or(glm::vec3(0.0f));
+      normals[i] = nrm.value_or(glm::vec3(0.0f));
     }
   };
   const size_t threads = size_t(std::max(settings.threads, 0));
-  if (threads <= 1 || n < 10000) {
-    work(0, n);
-    return;
+  if (threads <= 1 || m < 10000) {
+    work(0, m);
+  } else {
+    std::vector<std::thread> pool;
+    for (size_t t = 0; t < threads; ++t) pool.emplace_back(work, m * t / threads, m * (t + 1) / threads);
+    for (std::thread& t : pool) t.join();
   }
-  std::vector<std::thread> pool;
-  for (size_t t = 0; t < threads; ++t) pool.emplace_back(work, n * t / threads, n * (t + 1) / threads);
-  for (std::thread& t : pool) t.join();
+  for (size_t i = 0; i < n; ++i) cloud.normals[i] = normals[uniqueOf[i]];
 }
 
 }  // namespace hv

@@ -28,7 +28,9 @@ struct NormalEstimation {
 
 // Fills cloud.normals (replacing any) for every point. A point whose neighbourhood does not span
 // a plane (fewer than 3 points, or elongated: the middle spread under 5 % of the largest, with k
-// and with wideNeighbours) gets (0, 0, 0): its sprite then faces the camera.
+// and with wideNeighbours) gets (0, 0, 0): its sprite then faces the camera. Neighbours are
+// distinct positions: duplicates of a point share its normal, and cost nothing more (a million
+// identical points take what one does; docs/reliability.md).
 void estimateNormals(PointCloud& cloud, const NormalEstimation& settings = {});
 
 }  // namespace hv

@@ -1,13 +1,18 @@
 #include "hv/session/session.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/scene/robust_extent.h"
+#include "hv/session/outputs.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/render/settings_schema.h"
 #include "hv/util/log.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <new>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -34,12 +39,27 @@ std::optional<std::pair<std::string, std::string>> splitDebug(const std::string&
 }  // namespace
 
 void setAction(CLI::App& cmd, int& exitCode, std::function<int()> body) {
+  // The exit statuses of docs/reliability.md: an input that cannot be used at all (the scene, an
+  // option's value) is 2; anything else that stops the command is 1, with a message naming it.
+  cmd.footer(exitStatusHelp());
   cmd.callback([&exitCode, body = std::move(body)] {
     try {
       exitCode = body();
+    } catch (const InputError& e) {
+      std::cerr << "\nerror: " << e.what() << "\n";
+      exitCode = kExitNoScene;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "\nerror: " << e.what() << "\n";
+      exitCode = kExitNoScene;
+    } catch (const std::filesystem::filesystem_error& e) {
+      std::cerr << "\nerror: " << e.path1().string() << ": " << e.code().message() << "\n";
+      exitCode = kExitNotProduced;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "\nerror: out of memory\n";
+      exitCode = kExitNotProduced;
     } catch (const std::exception& e) {
       std::cerr << "\nerror: " << e.what() << "\n";
-      exitCode = 2;
+      exitCode = kExitNotProduced;
     }
   });
 }
@@ -79,6 +99,9 @@ void addViewOptions(CLI::App& cmd, ViewOptions& o, bool withViews) {
         ->required()
         ->check(CLI::ExistingFile);
   cmd.add_option("--size", o.size, "output size WxH (intrinsics scaled uniformly; default: each view's own)");
+  cmd.add_flag("--strict", o.strict,
+               "stop with exit status 1 before rendering when any input item was left out (default: render "
+               "the rest, exit status 3)");
   for (const render::Setting& s : render::settingsSchema()) {
     const std::string name = s.name, def = render::defaultText(s);
     CLI::Option* opt = nullptr;
@@ -194,12 +217,37 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   return s;
 }
 
+void checkSessionInputs(const Scene& scene, const ViewOptions& o, Diagnostics& diag) {
+  // Printed whatever HV_LOG says: these name what the user asked for or gave, once.
+  auto warn = [&](std::string message) {
+    std::cerr << "warning: " << message << "\n";
+    diag.warnings.push_back(std::move(message));
+  };
+  if (scene.photos.empty())
+    warn(scene.path + ": no photograph loaded (the cameras file has none, or none could be read): the views "
+                      "show the geometry untextured");
+  const auto excluded = o.settings.find("exclude");
+  if (excluded != o.settings.end()) {
+    std::stringstream ids(excluded->second);
+    for (std::string id; std::getline(ids, id, ',');) {
+      id.erase(0, id.find_first_not_of(' '));
+      id.erase(id.find_last_not_of(' ') + 1);
+      if (id.empty()) continue;
+      const bool known = std::any_of(scene.photos.begin(), scene.photos.end(),
+                                     [&](const Photo& p) { return p.camera.id == id; });
+      if (!known) warn("--exclude: no photograph of " + scene.path + " has the id '" + id + "' (ignored)");
+    }
+  }
+  for (const std::string& outlier : robustExtent(scene).outliers) warn(scene.path + ": " + outlier);
+}
+
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
                                      const std::function<std::unique_ptr<gpu::Context>()>& makeContext) {
   const render::RenderSettings settings = renderSettings(o);  // bad option values fail before loading
   auto session = std::make_unique<Session>();
   session->scene = loadScene(o.scenePath, diag);
   checkPhotoDates(session->scene, diag);
+  checkSessionInputs(session->scene, o, diag);
   if (!o.viewsPath.empty()) {
     CameraFileOptions viewOpts;
     viewOpts.requireImages = false;
@@ -207,6 +255,9 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
     session->views = readCameraFile(o.viewsPath, viewOpts, diag);
     if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
   }
+  if (o.strict && !diag.ok())
+    throw std::runtime_error("--strict: " + std::to_string(diag.errors.size()) +
+                             " input item(s) would be left out (named above); nothing rendered");
   session->context = makeContext ? makeContext() : gpu::createHeadlessContext();
   session->renderer = std::make_unique<render::Renderer>(session->scene, settings, diag);
   return session;

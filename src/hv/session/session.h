@@ -39,6 +39,7 @@ struct ViewOptions {
   std::map<std::string, std::string> settings;
   std::vector<std::string> hide;    // --hide terrain,buildings,mesh: --no-terrain ... in one option
   std::string debug;                // count | weight:ID | depth:ID (empty: none)
+  bool strict = false;  // stop before rendering when an input item was left out
 };
 // Registers the scene argument, --size, and one option per render setting of the schema (a flag
 // pair --NAME / --no-NAME for a boolean), checked while the command line is parsed.
@@ -56,6 +57,11 @@ std::optional<DateInterval> timeWindow(const std::string& from, const std::strin
 // Warns (file, camera id, field "date") for every photograph whose date is not an ISO 8601 date:
 // such a photograph is treated as undated by the time window.
 void checkPhotoDates(const Scene& scene, Diagnostics& diag);
+
+// Warns (never an error: the exit status stays) about what the options and the scene leave
+// unsaid: no photograph at all, --exclude ids no photograph has, outlying coordinates
+// (hv/scene/robust_extent.h, left out of the origin and the depth ranges).
+void checkSessionInputs(const Scene& scene, const ViewOptions& o, Diagnostics& diag);
 
 // The view camera at the requested output size: intrinsics scaled uniformly; a different aspect
 // ratio is an error (std::invalid_argument naming the view).

@@ -14,6 +14,7 @@
 #include "hv/io/native/raster.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
+#include "hv/scene/robust_extent.h"
 #include "hv/util/log.h"
 #include "hv/util/input_file.h"
 
@@ -204,10 +205,17 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   scene.path = path;
   const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
   if (doc.contains("crs") && !doc["crs"].is_null()) {
+    // Checked once here: a CRS that PROJ cannot read would otherwise be blamed on every source
+    // georeferenced into it; without a scene frame nothing can be placed (docs/reliability.md).
     if (!doc["crs"].is_string() || doc["crs"].get<std::string>().empty())
-      throw InputError(path + ": crs: expected a CRS string (e.g. \"EPSG:2154\", WKT, a PROJ string), got " +
-                       doc["crs"].dump().substr(0, 40));
+      throw InputError(path + ": crs: expected a CRS string (\"EPSG:2154\", WKT, a PROJ string), got " +
+                       doc["crs"].dump());
     scene.crs = doc["crs"].get<std::string>();
+    try {
+      describeCrs(scene.crs);
+    } catch (const InputError& e) {
+      throw InputError(path + ": crs: " + e.what());
+    }
   }
   if (doc.contains("up")) {
     scene.up = vec3Field(doc, "up", path);
@@ -352,8 +360,10 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   if (doc.contains("origin")) {
     scene.origin = vec3Field(doc, "origin", path);
   } else {
-    // Centre of the data, rounded to whole metres so the render frame is easy to read in logs.
-    const glm::dvec3 c = scene.bounds().empty() ? glm::dvec3(0.0) : scene.bounds().center();
+    // Centre of the data, rounded to whole metres so the render frame is easy to read in logs;
+    // outliers left out (hv/scene/robust_extent.h: one absurd coordinate would move it off the data).
+    const Aabb inliers = robustExtent(scene).bounds;
+    const glm::dvec3 c = inliers.empty() ? glm::dvec3(0.0) : inliers.center();
     scene.origin = glm::round(c);
   }
   return scene;
