@@ -15,6 +15,8 @@ packages=(
   libgtest-dev libbenchmark-dev
   libglfw3-dev libimgui-dev                             # the desktop viewer (histoview view): window, UI panel
   xvfb xauth                                            # the viewer's test runs it on a virtual X display
+  glslang-tools                                         # glslangValidator: the shaders checked as GLSL ES 3.00
+  python3                                               # the CLI, viewer and browser tests' helpers
 )
 
 missing=()
