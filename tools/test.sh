@@ -4,6 +4,7 @@
 #
 #   deps        tools/install-deps.sh, and the browser test's tools: Emscripten, Chromium, Node.js, npm
 #   build       build/ (tools/build.sh, RelWithDebInfo, through ccache)
+#   colmap      a real COLMAP model for the COLMAP reader's tests, when colmap and the data are here
 #   tests       every ctest test but the browser's: CPU, GL on Mesa llvmpipe (headless EGL, no GPU
 #               needed), CLI, viewer (Xvfb), fuzz corpus replays
 #   web-build   the browser version: tools/web-build.sh (emcmake, emcc through ccache) into build-web/
