@@ -9,7 +9,9 @@
 # (with and without its lidar points), serves the export on localhost and runs
 # tests/web/web_test.mjs against it: loading completes, no page errors, the canvas matches the
 # native render with points and without, the point controls work, moving changes the picture.
-# Exits 77 (skipped) when emcc, chromium, node or npm (or the npm package) are not available.
+# Exits 77 (skipped) when emcc, chromium, node or npm (or the npm package) are not available;
+# in CI (CI=true, or HV_WEB_REQUIRED=1) it fails instead: there, tools/test.sh has installed and
+# built all of it, so a skip would hide a broken browser build.
 # For measurements: HV_WEB_SIZE=W (canvas width, default 320), HV_WEB_MEASURE=N (the median frame
 # time of N frames), HV_WEB_SCREENSHOT=FILE (the whole page).
 set -uo pipefail
@@ -20,22 +22,30 @@ HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-web-test.XXXXXX")}
 export HV_LOG=${HV_LOG:-error}
 
-for tool in emcc chromium node npm python3; do
-  if ! command -v "$tool" >/dev/null; then
-    echo "SKIPPED: $tool not found (Debian: emscripten chromium nodejs npm; see docs/web.md)"
-    exit 77
+required=0
+case ${HV_WEB_REQUIRED:-${CI:-}} in 1 | true | TRUE | True | yes) required=1 ;; esac
+skip() {
+  if ((required)); then
+    echo "FAIL: the browser test may not skip in CI (CI=true or HV_WEB_REQUIRED=1): $1"
+    exit 1
   fi
+  echo "SKIPPED: $1"
+  exit 77
+}
+
+for tool in emcc chromium node npm python3; do
+  command -v "$tool" >/dev/null ||
+    skip "$tool not found (Debian: emscripten chromium nodejs npm python3; see docs/web.md)"
 done
-# In the main suite (ctest) the browser build is only tested once it exists: building it and
-# installing playwright-core is the job of `bash tools/web-test.sh` (HV_WEB_PREPARE=1).
+# Outside tools/test.sh and tools/web-test.sh (HV_WEB_PREPARE=1), the browser build is only tested
+# once it exists: they build it and install playwright-core.
 if [[ "${HV_WEB_PREPARE:-0}" != 1 ]] &&
    [[ ! -f build-web/dist/histoview_web.wasm || ! -d tests/web/node_modules/playwright-core ]]; then
-  echo "SKIPPED: the browser build or playwright-core is not prepared (run: bash tools/web-test.sh)"
-  exit 77
+  skip "the browser build or playwright-core is not prepared (run: bash tools/test.sh or bash tools/web-test.sh)"
 fi
 if [[ ! -d tests/web/node_modules/playwright-core ]]; then
-  (cd tests/web && npm install --no-audit --no-fund --loglevel=error) ||
-    { echo "SKIPPED: npm could not install playwright-core into tests/web/node_modules"; exit 77; }
+  (cd tests/web && npm ci --no-audit --no-fund --loglevel=error) ||
+    skip "npm could not install playwright-core into tests/web/node_modules"
 fi
 # Built, or brought up to date (an incremental build: seconds when nothing changed; a stale build
 # would test yesterday's page against today's native render).

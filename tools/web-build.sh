@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Builds the browser version (docs/web.md): the portable core + apps/web/hv_web.cpp with Debian's
-# Emscripten into build-web/dist/histoview_web.{js,wasm}. Installs emscripten (apt) when missing.
+# Builds the browser version (docs/web.md): the portable modules + apps/web/hv_web.cpp with Debian's
+# Emscripten (emcmake, emcc) into build-web/dist/histoview_web.{js,wasm}, compiling through ccache
+# when it is installed (EM_COMPILER_WRAPPER, tools/ccache-env.sh). Installs emscripten (apt) when
+# missing.
 #   bash tools/web-build.sh [extra cmake arguments]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,9 +21,10 @@ if ((${#missing[@]})); then
 fi
 # Debian's emcc needs its node modules (acorn) from the system path.
 export NODE_PATH=${NODE_PATH:-/usr/share/nodejs}
+source tools/ccache-env.sh
 mkdir -p build-web
 if [[ ! -f build-web/CMakeCache.txt ]]; then
   emcmake cmake -S . -B build-web -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
 fi
-cmake --build build-web -j"${HV_JOBS:-2}" -- -k 0
+cmake --build build-web -j"${HV_JOBS:-$(nproc)}" -- -k 0
 ls -l build-web/dist/histoview_web.js build-web/dist/histoview_web.wasm

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The browser build's end-to-end test in headless Chromium (docs/web.md): installs Emscripten and
-# Chromium (apt) and playwright-core (npm) when missing, builds the WebAssembly version and the
-# native one, and runs tests/web_test.sh. Kept out of the main suite (tools/test.sh) because the
-# WebAssembly build alone takes minutes on two cores.
+# The browser build's end-to-end test in headless Chromium (docs/web.md), on its own: installs
+# Emscripten and Chromium (apt) and playwright-core (npm) when missing, builds the WebAssembly
+# version and the native one, and runs tests/web_test.sh. tools/test.sh does the same among its
+# steps (web-build, web-npm, web).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
