@@ -171,7 +171,7 @@ hv::Scene makeStreet(int rows, int cols, const fs::path& dir, bool patchPhotos =
 }
 
 // The same street with 8 photographs instead, each taken near the view and covering all of it:
-// the "8 images covering everything" the issue compares 256 disjoint ones with.
+// the "8 images covering everything" that 256 disjoint ones are compared with.
 hv::Scene makeWideStreet(int rows, int cols, const fs::path& dir) {
   hv::Scene s = makeStreet(rows, cols, dir, false);  // geometry only
   const glm::dvec3 o = kOrigin;

@@ -1,4 +1,4 @@
-// The render settings on the command line (app/common.cpp addViewOptions, renderSettings) and in
+// The render settings on the command line (session/session.cpp addViewOptions, renderSettings) and in
 // the README (`histoview settings --markdown`): every entry of render/settings_schema.h reaches
 // them.
 #include "hv/session/session.h"

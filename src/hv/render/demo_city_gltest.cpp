@@ -1,5 +1,5 @@
 // End-to-end GL tests on the demo city (generated once per test binary): self-view reproduction
-// and the evaluation ordering of issue 2.
+// and the ordering of the evaluated methods (docs/evaluation.md).
 #include "hv/demo/demo_city.h"
 #include "hv/eval/evaluate.h"
 #include "hv/eval/metrics.h"

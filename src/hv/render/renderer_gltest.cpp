@@ -289,7 +289,7 @@ TEST_F(RendererGlTest, BrokenImageIsReportedAndTheRestRenders) {
 namespace hv::render {
 namespace {
 
-// Issue 3, time: a photograph does not texture a building that did not exist at its date, and
+// Time: a photograph does not texture a building that did not exist at its date, and
 // sees through it in its depth map.
 TEST_F(RendererGlTest, PhotographsIgnoreBuildingsThatDidNotExistAtTheirDate) {
   const glm::dvec3 o = kStreetOrigin;

@@ -2,8 +2,8 @@
 // set is declared once here — its name, type, range or spellings, unit, one line of help, whether
 // it applies live or needs a new renderer — with accessors that read and write it on a
 // RenderSettings. Defaults are not written here: they are a default-constructed RenderSettings's.
-// The command line (app/common.cpp), the desktop viewer's panel, the browser's generic setter
-// (web/hv_web.cpp, web/histoview.js) and the README's option table (`histoview settings
+// The command line (session/session.cpp), the desktop viewer's panel, the browser's generic setter
+// (apps/web/hv_web.cpp, web/histoview.js) and the README's option table (`histoview settings
 // --markdown`) are all driven by this one table, so a new setting is one RenderSettings field
 // plus one entry in settingsSchema() (settings_schema.cpp).
 #pragma once

@@ -1,5 +1,5 @@
 // Arbitrary triangle meshes (PLY, OBJ, glTF, ... : whatever Assimp reads) as scene geometry, e.g.
-// a photogrammetric mesh of a façade. Assimp is only included in io/private/.
+// a photogrammetric mesh of a façade. Assimp is only included in io/native/private/.
 #pragma once
 
 #include "hv/scene/mesh.h"

@@ -1,5 +1,5 @@
 // Elevation rasters through GDAL (any single-band raster GDAL reads: GeoTIFF, ASC, VRT, ...).
-// GDAL itself is only included under hv/io/private/.
+// GDAL itself is only included under hv/io/native/private/.
 #pragma once
 
 #include "hv/io/native/georef.h"

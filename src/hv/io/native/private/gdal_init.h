@@ -1,5 +1,5 @@
-// GDAL set-up shared by the readers under hv/io/private/. Private: includes GDAL headers, so only
-// .cpp files under io/private/ may include it.
+// GDAL set-up shared by the readers under hv/io/native/private/. Private: includes GDAL headers, so only
+// .cpp files under io/native/private/ may include it.
 #pragma once
 
 #include <cpl_error.h>
