@@ -31,6 +31,22 @@ run() {
   rc=$?
   out="$DIR/$name.out"
 }
+# run_capped NAME COMMAND...: runs COMMAND (not only histoview) in a 3 GiB address space
+# (RLIMIT_AS), output and status as `run`. Under AddressSanitizer, which reserves terabytes of
+# address space for its shadow memory, without the limit (and says so).
+asan_build=0
+if ldd "$HV" 2>/dev/null | grep -q libasan || nm -C "$HV" 2>/dev/null | grep -q __asan_init; then asan_build=1; fi
+run_capped() {
+  local name=$1; shift
+  if ((asan_build)); then
+    echo "note: $name runs without the 3 GiB address-space limit (AddressSanitizer)" >&2
+    "$@" >"$DIR/$name.out" 2>&1
+  else
+    (ulimit -v 3145728; exec "$@") >"$DIR/$name.out" 2>&1
+  fi
+  rc=$?
+  out="$DIR/$name.out"
+}
 # expect_rc NAME WANT: WANT is a number or "fail" (1..127). A signal (>= 128) or a sanitizer
 # report is always a failure.
 expect_rc() {
@@ -118,10 +134,29 @@ check "eval wrote e.json with \"methods\"" grep -q '"methods"' "$DIR/e.json"
 cp -r "$city/truth" "$DIR/truth-loop"
 rm -f "$DIR/truth-loop/${ids[0]}".*
 ln -sf "${ids[0]}.jpg" "$DIR/truth-loop/${ids[0]}.png"; ln -sf "${ids[0]}.png" "$DIR/truth-loop/${ids[0]}.jpg"
-run eval-loop eval "$city/scene.json" --views "$city/views.json" --truth "$DIR/truth-loop" --k 4
+run_capped eval-loop "$HV" eval "$city/scene.json" --views "$city/views.json" --truth "$DIR/truth-loop" --k 4
 expect_rc "eval with one truth a symlink loop" 1
 expect_out "eval with one truth a symlink loop" "${ids[0]}.*not scored"
 expect_out "eval with one truth a symlink loop" "mean +blend +[0-9]"
+
+# A view id that is a path ("../stolen") names its truth as `render` names its output (a safe
+# stem inside --truth), never a file outside the folder.
+mkdir -p "$DIR/truth-esc"
+cp "$city/truth/"* "$DIR/truth-esc/"
+rm -f "$DIR/truth-esc/${ids[0]}".*
+cp "$city/truth/${ids[0]}.png" "$DIR/stolen.png" 2>/dev/null || cp "$city/truth/${ids[0]}.jpg" "$DIR/stolen.png"
+python3 - "$city/views.json" "$DIR/views-esc.json" "${ids[0]}" <<'PY'
+import json, sys
+v = json.load(open(sys.argv[1]))
+for c in v["cameras"]:
+    if str(c["id"]) == sys.argv[3]:
+        c["id"] = "../stolen"
+json.dump(v, open(sys.argv[2], "w"))
+PY
+run_capped eval-esc "$HV" eval "$city/scene.json" --views "$DIR/views-esc.json" --truth "$DIR/truth-esc" --k 4
+expect_rc "eval with a view id ../stolen" 1
+expect_out "eval with a view id ../stolen" "no truth image stolen-[0-9a-f]{8}"
+expect_out "eval with a view id ../stolen" "mean +blend +[0-9]"
 
 # --- eval --seams (measured on real panoramas in src/hv/eval/paris_seams_test.cpp): a panorama id
 # that no photograph ends with is an error naming it
@@ -306,7 +341,7 @@ scene = json.load(open(f"{city}/scene.json"))
 scene["cameras"]["path"] = "cameras-empty.json"
 json.dump(scene, open(f"{city}/scene-nocams.json", "w"))
 PY
-run nocams render "$city/scene-nocams.json" --views "$city/views.json" --out "$DIR/rnocams" --k 4 --size 160x120
+run_capped nocams "$HV" render "$city/scene-nocams.json" --views "$city/views.json" --out "$DIR/rnocams" --k 4 --size 160x120
 expect_out "render with an empty cameras file" "no photograph loaded"
 
 # --- output paths are ours: hostile view ids never write outside --out; duplicates do not overwrite
@@ -322,7 +357,7 @@ json.dump(views, open(f"{city}/views-hostile.json", "w"))
 PY
 sandbox=$DIR/sandbox/one/two
 mkdir -p "$sandbox"
-run hostile render "$city/scene.json" --views "$city/views-hostile.json" --out "$sandbox/out" --k 4 --size 160x120
+run_capped hostile "$HV" render "$city/scene.json" --views "$city/views-hostile.json" --out "$sandbox/out" --k 4 --size 160x120
 # The second "dup" is left out by the cameras reader (a duplicate id: exit 3, named); "DUP" is
 # another id whose file name collides with "dup"'s on a case-insensitive file system: a suffix.
 expect_rc "render with hostile view ids" 3
@@ -380,12 +415,12 @@ expect_out "check on the demo city" "12 photograph\\(s\\).*0 item"
 run check-deep check "$city/scene.json" --deep --json
 expect_rc "check --deep --json on the demo city" 0
 check "check --json is JSON with no problems" python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["problems"] == 0 and r["photographs"] == 12' "$out"
-run check-hostile check "$city/scene-hostile.json" --deep
+run_capped check-hostile "$HV" check "$city/scene-hostile.json" --deep
 expect_rc "check on a scene with a text mask and a PNG bomb" 1
 expect_out "check on a scene with a text mask and a PNG bomb" "^masks"
 expect_out "check on a scene with a text mask and a PNG bomb" "$cam0.*mask.*secret.txt"
 expect_out "check on a scene with a text mask and a PNG bomb" "$cam1.*bomb.png.*limit"
-run check-missing check "$DIR/not-json.json"
+run_capped check-missing "$HV" check "$DIR/not-json.json"
 expect_rc "check on a scene.json that is not JSON" 2
 
 # --- outliers: one camera at 1e9 does not black out the views
@@ -401,7 +436,7 @@ scene["cameras"]["path"] = "cameras-far.json"
 scene.pop("origin", None)
 json.dump(scene, open(f"{city}/scene-far.json", "w"))
 PY
-run far render "$city/scene-far.json" --views "$city/views.json" --out "$DIR/rfar" --k 4 --size 160x120
+run_capped far "$HV" render "$city/scene-far.json" --views "$city/views.json" --out "$DIR/rfar" --k 4 --size 160x120
 expect_rc "render with a camera at 1e9" 0
 expect_out "render with a camera at 1e9" "far-away.*left out of the render origin"
 mean_png() {  # mean of an 8-bit RGB PNG's samples (no PIL here)
@@ -439,11 +474,11 @@ json.dump(scene, open(f"{city}/scene-badcrs.json", "w"))
 scene["crs"] = 12345
 json.dump(scene, open(f"{city}/scene-numcrs.json", "w"))
 PY
-run badcrs info "$city/scene-badcrs.json"
+run_capped badcrs "$HV" info "$city/scene-badcrs.json"
 expect_rc "info with a scene crs PROJ cannot read" 2
 expect_out "info with a scene crs PROJ cannot read" "scene-badcrs.json: crs:"
 check "a bad scene crs is named once" test "$(grep -c 'EPSG:999999' "$out")" = 1
-run numcrs info "$city/scene-numcrs.json"
+run_capped numcrs "$HV" info "$city/scene-numcrs.json"
 expect_rc "info with a numeric scene crs" 2
 expect_out "info with a numeric scene crs" "crs: expected a CRS string"
 
@@ -459,9 +494,38 @@ scene = json.load(open(f"{city}/scene.json"))
 scene["cameras"]["path"] = "cameras-loop.json"
 json.dump(scene, open(f"{city}/scene-loop.json", "w"))
 PY
-run info-loop info "$city/scene-loop.json"
+run_capped info-loop "$HV" info "$city/scene-loop.json"
 expect_rc "info with a symlink loop as a photograph" fail
 expect_out "info with a symlink loop as a photograph" "loop-a"
+
+# --- a 60,000-photograph collection: one view within 120 s, in a 3 GiB address space (the camera
+# index and the spacing are kd-tree queries, the per-frame selection follows the images seen)
+python3 - "$city" <<'PY'
+import json, random, sys
+city = sys.argv[1]
+cams = json.load(open(f"{city}/cameras.json"))
+base = cams["cameras"]
+rng = random.Random(7)
+many = []
+for i in range(60000):
+    c = dict(base[i % len(base)])
+    c["id"] = f"m{i:05d}"
+    c["center"] = [v + rng.uniform(-3.0, 3.0) for v in c["center"]]
+    many.append(c)
+cams["cameras"] = many
+json.dump(cams, open(f"{city}/cameras-60k.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-60k.json"
+json.dump(scene, open(f"{city}/scene-60k.json", "w"))
+views = json.load(open(f"{city}/views.json"))
+views["cameras"] = views["cameras"][:1]
+json.dump(views, open(f"{city}/views-one.json", "w"))
+PY
+t60=$SECONDS
+run_capped many timeout 120 "$HV" render "$city/scene-60k.json" --views "$city/views-one.json" --out "$DIR/r60k" \
+  --k 4 --size 160x120
+expect_rc "one view of a 60,000-photograph scene within 120 s ($((SECONDS - t60)) s)" 0
+check "60,000 photographs: the view was written" test -s "$DIR/r60k/${ids[0]}.png"
 
 echo "cli test took $((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"

@@ -25,13 +25,22 @@ struct DrawRange {
   int first = 0, count = 0;
 };
 
+// One tile of a layer's triangles (render/geometry_tiles.h): its index range and its box.
+struct GeometryTile {
+  int layer = kLayerTerrain;
+  DrawRange range;                 // into GeometryBuffers::indices
+  glm::vec3 lo{0.0f}, hi{0.0f};    // box of its vertices, render frame
+};
+
 // The scene's surfaces as the GPU holds them (built once by the frame builder). Per vertex:
 // render-frame position (3), the days its surface existed (2, ibr::gpuDays), building index + 1.
+// The indices are ordered layer by layer and, within a layer, tile by tile.
 struct GeometryBuffers {
   static constexpr int kStride = 6;
   std::vector<float> vertices;
   std::vector<std::uint32_t> indices;
   std::array<DrawRange, kLayerCount> layers;
+  std::vector<GeometryTile> tiles;
   // Building validity (days), one RGBA32F texel per building index, rows of validityWidth.
   std::vector<float> validity;
   int validityWidth = 1, validityRows = 1;
@@ -73,6 +82,9 @@ struct DepthMapJob {
   DateInterval date;              // surfaces outside it are left out (scene validity)
   double pushBack = 0.0;          // the mesh pushed back behind the points
   std::array<bool, kLayerCount> layers{true, true, true};
+  // The index ranges to draw: the tiles of those layers that its frustum may see (merged).
+  std::vector<DrawRange> draws;
+  int tiles = 0;                  // the tiles in `draws`
   bool withPoints = false;        // non-transient points refine the occlusion (2016 §4.2, 2022 §2.4)
   PointPass points;
 };
@@ -135,6 +147,7 @@ struct Frame {
 
   ViewRect rect;
   std::array<bool, kLayerCount> layers{true, true, true};
+  std::vector<DrawRange> draws;   // the view's geometry: the tiles its frustum may see (merged)
   ViewPoints points;
   bool culling = false;           // per-tile image lists (ibr/tile_culling.h)
   int tileSize = 16;

@@ -1,5 +1,7 @@
 #include "hv/render/frame_builder.h"
 
+#include "hv/render/geometry_tiles.h"
+
 #include "hv/util/log.h"
 
 #include <algorithm>
@@ -266,6 +268,7 @@ DepthMapJob FrameBuilder::depthMapJob(int slot) const {
   job.date = photoDate(scene_.photos[size_t(job.photo)]);
   job.pushBack = meshPushBack();
   job.layers = {settings_.layers.terrain, settings_.layers.buildings, settings_.layers.mesh};
+  job.draws = visibleRanges(tiles_, job.layers, job.clipFromRender, settings_.geometryCulling, &job.tiles);
   job.size = layout_.depthSize;
   job.withPoints = pointsActive() && pointsInDepthMaps_;
   // Transient points never occlude.
@@ -287,8 +290,11 @@ void FrameBuilder::drawDepthMaps(Frame& f, int debugSlot) {
   const int dmax = f.mode == FrameMode::Batch ? 0 : settings_.depthMapsPerFrame;
   f.depthBudgeted = f.mode == FrameMode::Progressive && settings_.depthBudgetMs > 0.0;
   f.depthMapQueue = depthScheduler_.next(residentSlots, residentPriority, dmax);
+  stats_.depthMapTilesThisFrame = 0;
   auto draw = [&](int slot) {
-    backend_.drawDepthMap(depthMapJob(slot));
+    const DepthMapJob job = depthMapJob(slot);
+    stats_.depthMapTilesThisFrame += job.tiles;
+    backend_.drawDepthMap(job);
     depthScheduler_.done(slot);
     f.depthMapsDrawn.push_back(slot);
     ++stats_.depthMapsRendered;
@@ -373,6 +379,7 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   f.rect.clipFromRender = hv::clipFromRender(view, f.rect.frustum, scene_.origin);
 
   f.layers = {settings_.layers.terrain, settings_.layers.buildings, settings_.layers.mesh};
+  f.draws = visibleRanges(tiles_, f.layers, f.rect.clipFromRender, settings_.geometryCulling, &stats_.viewTilesDrawn);
   const PointSettings& ps = settings_.points;
   f.points.enabled = pointsActive();
   stats_.pointsDrawn = 0;

@@ -118,6 +118,7 @@ class FrameBuilder {
   bool warnedPointClasses_ = false, warnedMat3_ = false;
   int mat3K_ = 0;
   std::vector<double> chunkSpacing_;  // mean point spacing of each chunk, scene units
+  std::vector<GeometryTile> tiles_;   // the geometry's tiles (render/geometry_tiles.h)
 
   ibr::FramePlan plan_;
   std::vector<ibr::ImageParams> params_;

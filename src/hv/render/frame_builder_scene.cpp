@@ -2,6 +2,8 @@
 // point chunks each pass draws, the frusta overlay's lines, and the scale-derived defaults.
 #include "hv/render/frame_builder.h"
 
+#include "hv/render/geometry_tiles.h"
+
 #include "hv/camera/frustum_outline.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/robust_extent.h"
@@ -32,6 +34,14 @@ void FrameBuilder::buildGeometry() {
   constexpr int kStride = GeometryBuffers::kStride;
   const glm::vec2 always = ibr::gpuDays(DateInterval{});
   const std::array<const Mesh*, kLayerCount> layers = {&scene_.terrain, &scene_.buildings, &scene_.mesh};
+  // The tile grid covers the inliers' ground extent (one absurd vertex does not stretch it).
+  const Aabb inliers = robustExtent(scene_).bounds;
+  std::size_t triangles = 0;
+  for (const Mesh* m : layers) triangles += m->triangles.size();
+  const TileGridXY grid = inliers.empty() ? TileGridXY{}
+                                          : makeTileGrid(glm::dvec2(inliers.lo - scene_.origin),
+                                                         glm::dvec2(inliers.hi - scene_.origin), triangles);
+  std::vector<glm::dvec3> renderPositions;
   for (int layer = 0; layer < kLayerCount; ++layer) {
     const Mesh* m = layers[size_t(layer)];
     const bool isBuildings = m == &scene_.buildings;
@@ -54,9 +64,16 @@ void FrameBuilder::buildGeometry() {
       }
       g.vertices.insert(g.vertices.end(), {float(r.x), float(r.y), float(r.z), valid.x, valid.y, building});
     }
-    for (const auto& t : m->triangles) g.indices.insert(g.indices.end(), {t.x + base, t.y + base, t.z + base});
+    renderPositions.resize(m->positions.size());
+    for (size_t v = 0; v < m->positions.size(); ++v) renderPositions[v] = m->positions[v] - scene_.origin;
+    // Buildings keep each footprint's triangles in one tile; terrain and meshes go by triangle.
+    static const std::vector<std::uint32_t> kNoTags;
+    appendTiledLayer(layer, renderPositions, m->triangles, isBuildings ? m->triangleTags : kNoTags, base, grid,
+                     g.indices, g.tiles);
     bounds_.extend(m->bounds());
   }
+  tiles_ = g.tiles;
+  stats_.geometryTiles = int(tiles_.size());
   // Padded so that flat geometry (a single wall, flat ground) still has a volume to sample.
   // One absurd coordinate (an inf vertex, an unflagged no-data cell) never stretches the depth
   // ranges until the picture is black: both boxes stop at the scene's inliers

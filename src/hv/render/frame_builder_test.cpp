@@ -337,3 +337,71 @@ TEST_F(FrameBuilderTest, PointsSwitchedOnLaterAreUploadedOnceAndRedrawTheDepthMa
 
 }  // namespace
 }  // namespace hv::render
+
+namespace hv::render {
+namespace {
+
+// Geometry culling: on a finely tessellated 200 m ground (80,000 triangles, many tiles), each
+// depth map and the view draw a subset of the tiles, and never leave out a triangle that their
+// frustum sees (checked by projecting every triangle's vertices and centroid, independently of the
+// tiles' boxes).
+TEST_F(FrameBuilderTest, CullingKeepsEveryTriangleAFrustumSees) {
+  Mesh& t = scene_.terrain;
+  t = Mesh{};
+  const int n = 200;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) t.positions.push_back({-100.0 + x, -100.0 + y, 0.05 * std::sin(0.1 * x * y)});
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const auto v = [&](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
+      t.triangles.push_back({v(x, y), v(x + 1, y), v(x + 1, y + 1)});
+      t.triangles.push_back({v(x, y), v(x + 1, y + 1), v(x, y + 1)});
+    }
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  const GeometryBuffers& g = backend_.geometry;
+  ASSERT_GT(builder.stats().geometryTiles, 10);
+  EXPECT_EQ(builder.stats().geometryTiles, int(g.tiles.size()));
+  // A close, narrow view: few tiles.
+  const Camera close = lookAtCamera("close", {-60, -60, 8}, {-40, -40, 0}, 64, 48, 80.0);
+  const Frame f = builder.build(close, FrameMode::Batch, false);
+  ASSERT_FALSE(backend_.depthMaps.empty());
+  auto covered = [](const std::vector<DrawRange>& draws, int index) {
+    for (const DrawRange& r : draws)
+      if (index >= r.first && index < r.first + r.count) return true;
+    return false;
+  };
+  auto check = [&](const Camera& cam, const std::vector<DrawRange>& draws, const std::string& what) {
+    int seen = 0, drawn = 0, total = 0;
+    for (const DrawRange& r : draws) drawn += r.count / 3;
+    for (int i = 0; i < int(g.indices.size()); i += 3) {
+      ++total;
+      // Seen: a vertex or the centroid projects into the image in front of the camera.
+      bool in = false;
+      glm::dvec3 centroid(0.0);
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 p = t.positions[g.indices[size_t(i + k)]];
+        centroid += p / 3.0;
+        in = in || cam.project(p).inImage;
+      }
+      in = in || cam.project(centroid).inImage;
+      if (!in) continue;
+      ++seen;
+      EXPECT_TRUE(covered(draws, i)) << what << ": triangle at index " << i << " is seen but not drawn";
+    }
+    EXPECT_GT(seen, 0) << what;
+    EXPECT_LT(drawn, total) << what << " draws every triangle";
+  };
+  check(close, f.draws, "the view");
+  EXPECT_LT(builder.stats().viewTilesDrawn, builder.stats().geometryTiles);
+  for (const DepthMapJob& job : backend_.depthMaps) check(job.camera, job.draws, "depth map of " + job.camera.id);
+
+  // Culling off: every tile, one range.
+  settings_.geometryCulling = false;
+  const Frame all = builder.build(close, FrameMode::Batch, false);
+  ASSERT_EQ(all.draws.size(), 1u);
+  EXPECT_EQ(all.draws[0].count, int(g.indices.size()));
+  EXPECT_EQ(builder.stats().viewTilesDrawn, builder.stats().geometryTiles);
+}
+
+}  // namespace
+}  // namespace hv::render

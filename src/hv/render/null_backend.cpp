@@ -4,7 +4,10 @@
 
 namespace hv::render {
 
-void NullBackend::uploadGeometry(const GeometryBuffers& geometry) { triangles = int(geometry.indices.size() / 3); }
+void NullBackend::uploadGeometry(const GeometryBuffers& g) {
+  triangles = int(g.indices.size() / 3);
+  geometry = g;
+}
 
 PointProgramInfo NullBackend::uploadPoints(const std::vector<PointVertex>& vertices, const PointProgramRequest& req) {
   points = vertices.size();

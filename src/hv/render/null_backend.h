@@ -35,6 +35,7 @@ class NullBackend final : public Backend {
   std::vector<Frame> frames;  // one per runViewPasses
   int finishes = 0;
   int triangles = 0;          // uploaded geometry
+  GeometryBuffers geometry;   // as uploaded
   std::size_t points = 0;     // uploaded point vertices
   const SlotLayout& layout() const { return layout_; }
 

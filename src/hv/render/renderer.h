@@ -54,6 +54,11 @@ struct RenderStats {
   int debugImage = -1;
   int debugSlot = -1;
   double debugDepthNear = 0.0, debugDepthFar = 0.0;
+  // Geometry tiles (render/geometry_tiles.h): how many there are, how many the last frame's view
+  // drew, and how many its depth maps drew together.
+  int geometryTiles = 0;
+  int viewTilesDrawn = 0;
+  int depthMapTilesThisFrame = 0;
 };
 
 // Where a photograph stands in the renderer (the viewer's residency table).

@@ -134,6 +134,9 @@ struct RenderSettings {
   // tile instead of all the selected ones.
   bool tileCulling = true;
   int tileSize = 16;  // view-depth texels per tile side
+  // The view and each depth map draw only the geometry tiles their frustum may see
+  // (render/geometry_tiles.h); off: every tile (the same pixels, more work).
+  bool geometryCulling = true;
   // false: render() leaves RenderOutput::rgba empty and the colour stays on the GPU, in
   // colorTexture() (a window presents it without a GPU -> CPU copy). Counts are read back anyway.
   bool readBackColour = true;

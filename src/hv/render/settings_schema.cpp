@@ -258,6 +258,9 @@ std::vector<Setting> makeSchema() {
                      "per depth map", {"array", "naive"}, [](auto& s) -> auto& { return s.binding; }).reload());
   t.push_back(field("tile-culling", resources, "per-tile image lists: each pixel loops over the images that may "
                     "cover its tile", [](auto& s) -> auto& { return s.tileCulling; }));
+  t.push_back(field("geometry-culling", resources, "the view and each depth map draw only the geometry tiles "
+                    "their frustum may see (off: every tile; the same pixels)",
+                    [](auto& s) -> auto& { return s.geometryCulling; }));
   t.push_back(field("tile-size", resources, "tile side, in view-depth texels", [](auto& s) -> auto& { return s.tileSize; })
                   .unit("px").range(1, 256).slider(4, 64, true));
   t.push_back(field("max-slice-size", resources, "largest photograph side in the texture array (larger ones are "

@@ -7,7 +7,7 @@
 namespace hv::render::gl {
 
 void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
-                          const DateInterval& date, const std::array<bool, kLayerCount>& layers, double pushBack,
+                          const DateInterval& date, const std::vector<DrawRange>& draws, double pushBack,
                           glm::dvec3 centerRender) {
   program.program.use();
   glUniform1f(program.pushBack, float(pushBack));
@@ -23,25 +23,17 @@ void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, d
   glDisable(GL_CULL_FACE);
   glClearDepthf(1.0f);
   glClear(GL_DEPTH_BUFFER_BIT);
-  if (indexCount_ > 0) drawLayers(layers);
+  if (indexCount_ > 0) drawRanges(draws);
   glDisable(GL_DEPTH_TEST);
 }
 
-// The geometry layers that are on, contiguous ranges in one draw.
-void GlBackend::drawLayers(const std::array<bool, kLayerCount>& on) {
+// The index ranges the frame builder chose (the visible tiles of the layers that are on).
+void GlBackend::drawRanges(const std::vector<DrawRange>& draws) {
   glBindVertexArray(meshVao_.id());
-  for (int layer = 0; layer < kLayerCount;) {
-    if (!on[size_t(layer)]) {
-      ++layer;
-      continue;
-    }
-    const int first = layerRange_[size_t(layer)].first;
-    GLsizei count = 0;
-    for (; layer < kLayerCount && on[size_t(layer)]; ++layer) count += layerRange_[size_t(layer)].count;
-    if (count > 0)
-      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(std::uintptr_t(first) * sizeof(std::uint32_t)));
-  }
+  for (const DrawRange& r : draws)
+    if (r.count > 0)
+      glDrawElements(GL_TRIANGLES, r.count, GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(std::uintptr_t(r.first) * sizeof(std::uint32_t)));
   glBindVertexArray(0);
 }
 
@@ -56,7 +48,7 @@ void GlBackend::drawDepthMap(const DepthMapJob& job) {
   glReadBuffer(GL_NONE);
   gpu::checkFramebuffer("depth map");
   glViewport(0, 0, job.size, job.size);
-  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.layers, job.pushBack,
+  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.draws, job.pushBack,
             job.centerRender);
   if (job.withPoints) {
     // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
@@ -95,7 +87,7 @@ void GlBackend::viewDepthPass(const Frame& f) {
   glClearBufferfv(GL_COLOR, 0, noBuilding);
   // The view shows today's geometry: every surface, whatever its dates.
   drawDepth(viewDepthProgram_, f.rect.clipFromRender, f.rect.frustum.near, f.rect.frustum.far, DateInterval{},
-            f.layers, 0.0, glm::dvec3(0.0));
+            f.draws, 0.0, glm::dvec3(0.0));
 }
 
 }  // namespace hv::render::gl

@@ -67,9 +67,9 @@ class GlBackend final : public Backend {
   bool naive() const { return layout_.binding == Binding::Naive; }
   // depth_pass.cpp
   void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
-                 const DateInterval& date, const std::array<bool, kLayerCount>& layers, double pushBack,
+                 const DateInterval& date, const std::vector<DrawRange>& draws, double pushBack,
                  glm::dvec3 centerRender);
-  void drawLayers(const std::array<bool, kLayerCount>& layers);
+  void drawRanges(const std::vector<DrawRange>& draws);
   void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
   void viewDepthPass(const Frame& f);
   // points_pass.cpp
