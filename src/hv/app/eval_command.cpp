@@ -75,6 +75,9 @@ int runEval(const EvalCommandOptions& o) {
   eval::EvalOptions opt;
   opt.truthDir = o.truth;
   opt.leaveOneOut = o.leaveOneOut;
+  // The truth images are named as `render` names its outputs.
+  auto names = std::make_shared<OutputNames>();
+  opt.truthStem = [names](const std::string& id) { return names->stem(id); };
   if (!o.view.size.empty()) opt.size = parseSize(o.view.size);
   opt.methods.clear();
   for (const auto& m : o.methods) opt.methods.push_back(eval::parseMethod(m));

@@ -106,11 +106,22 @@ int runFly(const FlyOptions& o) {
       *s->renderer, frames->size(), [&](int i) { return resizeView((*frames)[i], o.view.size); }, o.out,
       o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; });
   std::cerr << "\n";
+  for (const std::string& f : r.failures) std::cerr << "error: " << f << "\n";
+  if (r.gaveUp)
+    std::cerr << "error: " << kMaxConsecutiveFlyFailures << " frames failed in a row; the remaining "
+              << frames->size() - r.frames - int(r.failures.size()) << " frame(s) were not tried\n";
   std::cout << "wrote " << r.frames << " frame(s) to " << o.out << " in " << std::fixed
             << std::setprecision(1) << r.totalMs / 1000.0 << " s";
   if (o.progressive) std::cout << " (" << r.convergedFrames << " converged)";
+  if (!r.failures.empty()) std::cout << "; " << r.failures.size() << " failed";
   std::cout << "\n";
-  const int code = exitStatus(diag);
+  const std::size_t missing = std::size_t(frames->size() - r.frames);
+  const int code = exitStatus(diag, missing);
+  if (!o.video.empty() && missing > 0) {
+    std::cerr << "error: --video: " << missing << " frame(s) are missing, so " << o.video
+              << " was not encoded; the PNG frames are in " << o.out << "\n";
+    return code;
+  }
   if (!o.video.empty()) {
     const auto args = ffmpegArguments(ffmpeg.empty() ? "ffmpeg" : ffmpeg, o.out, o.fps, r.frames, o.video);
     std::string command;
@@ -151,6 +162,7 @@ FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Cam
   OutputNames names;
   const auto start = clock::now();
   const render::FrameMode mode = progressive ? render::FrameMode::Progressive : render::FrameMode::Batch;
+  int consecutiveFailures = 0;
   for (int i = 0; i < count; ++i) {
     const Camera cam = frame(i);
     const auto t0 = clock::now();
@@ -163,8 +175,14 @@ FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Cam
     try {
       const render::RenderOutput out = renderer.render(cam, false, mode);
       writePng(f.file, rgbOf(out.rgba));
+      consecutiveFailures = 0;
     } catch (const std::exception& e) {
-      throw std::runtime_error("frame '" + cam.id + "': " + e.what());
+      result.failures.push_back("frame '" + cam.id + "' (" + f.file + "): " + e.what());
+      if (++consecutiveFailures >= kMaxConsecutiveFlyFailures) {
+        result.gaveUp = i + 1 < count;
+        break;
+      }
+      continue;
     }
     const auto t1 = clock::now();
     f.ms = std::chrono::duration<double, std::milli>(t1 - t0).count();

@@ -32,15 +32,22 @@ struct FlyFrame {
 using FlyProgress = std::function<void(const FlyFrame&)>;
 
 struct FlyResult {
-  int frames = 0;
+  int frames = 0;           // written
   int convergedFrames = 0;
   double totalMs = 0.0;
+  // Frames that could not be rendered or written, each named with its error ("frame 'f00012': ...").
+  std::vector<std::string> failures;
+  bool gaveUp = false;      // kMaxConsecutiveFlyFailures frames failed in a row: the rest was not tried
 };
+
+// A failed frame is named and the path goes on; this many failures in a row (a full disk, a lost
+// GL context) end it.
+inline constexpr int kMaxConsecutiveFlyFailures = 8;
 
 // Renders every camera in order to outDir/<id>.png (RGB; outDir is created; ids made safe file
 // names by OutputNames, hv/app/outputs.h). `progressive`: one FrameMode::Progressive call per
-// frame, as a viewer would make; otherwise FrameMode::Batch, each frame converged. Throws what the
-// renderer or the PNG writer throws, naming the frame.
+// frame, as a viewer would make; otherwise FrameMode::Batch, each frame converged. A frame the
+// renderer or the PNG writer fails on is reported in FlyResult::failures and the path goes on.
 FlyResult flyPath(render::Renderer& renderer, const std::vector<Camera>& frames, const std::string& outDir,
                   bool progressive, const FlyProgress& progress = {});
 // The same with frames made one at a time (`frame(i)` for i in [0, count)): a long path is never

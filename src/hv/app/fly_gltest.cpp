@@ -112,6 +112,33 @@ TEST_F(FlyGlTest, ProgressiveFramesReachTheConvergedFrames) {
   EXPECT_GT(textured, last.width * last.height / 2);
 }
 
+// A frame the renderer refuses (a view beyond MAX_TEXTURE_SIZE) is named and left out; the path
+// goes on. Failures in a row end it.
+TEST_F(FlyGlTest, AFailedFrameIsNamedAndThePathGoesOn) {
+  const std::vector<Camera> frames = pathFrames(*path_, 4.0);
+  Diagnostics diag;
+  render::Renderer renderer(scene_, settings_, diag);
+  auto huge = [&](int i) {
+    Camera c = frames[size_t(i)];
+    return c.resized(40000, 30000);
+  };
+  const FlyResult r = flyPath(
+      renderer, int(frames.size()), [&](int i) { return i == 2 ? huge(i) : frames[size_t(i)]; }, dir_ + "/gap",
+      false);
+  EXPECT_EQ(r.frames, 6);
+  ASSERT_EQ(r.failures.size(), 1u);
+  EXPECT_NE(r.failures[0].find("frame '" + frames[2].id + "'"), std::string::npos) << r.failures[0];
+  EXPECT_FALSE(r.gaveUp);
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/gap/" + frames[2].id + ".png"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir_ + "/gap/" + frames[3].id + ".png"));
+
+  const int count = kMaxConsecutiveFlyFailures + 3;
+  const FlyResult all = flyPath(renderer, count, [&](int) { return huge(0); }, dir_ + "/none", false);
+  EXPECT_EQ(all.frames, 0);
+  EXPECT_EQ(int(all.failures.size()), kMaxConsecutiveFlyFailures);
+  EXPECT_TRUE(all.gaveUp);
+}
+
 TEST(FlyCommand, ProgressLineAndFfmpegArguments) {
   FlyFrame f;
   f.index = 11;

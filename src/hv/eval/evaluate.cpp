@@ -54,9 +54,16 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
     const std::string id = v.camera.id;
     try {
       const Camera cam = opt.size.x > 0 ? v.camera.resized(opt.size.x, opt.size.y) : v.camera;
-      const std::string truthPath = opt.leaveOneOut ? v.imagePath : findTruth(opt.truthDir, id);
+      std::string stem = id;
+      if (!opt.leaveOneOut) {
+        stem = opt.truthStem ? opt.truthStem(id) : id;
+        if (stem.empty() || stem.find_first_of(std::string("/\\\0", 3)) != std::string::npos || stem[0] == '.')
+          throw InputError("view '" + id + "': the id is not a plain file name, so it names no truth image in " +
+                           opt.truthDir);
+      }
+      const std::string truthPath = opt.leaveOneOut ? v.imagePath : findTruth(opt.truthDir, stem);
       if (truthPath.empty())
-        throw InputError(opt.truthDir + ": no truth image " + id + ".png or " + id + ".jpg");
+        throw InputError(opt.truthDir + ": no truth image " + stem + ".png or " + stem + ".jpg (view '" + id + "')");
       Image8 truth = readImage(truthPath, 3);
       if (opt.leaveOneOut && (truth.width != cam.width || truth.height != cam.height))
         truth = resizeImage(truth, cam.width, cam.height);
@@ -65,7 +72,7 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
                          ", the view renders at " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
       const size_t n = size_t(cam.width) * cam.height;
       std::vector<std::uint8_t> scored(n, 1);
-      const fs::path covPath = opt.leaveOneOut ? fs::path(v.maskPath) : fs::path(opt.truthDir) / (id + ".coverage.png");
+      const fs::path covPath = opt.leaveOneOut ? fs::path(v.maskPath) : fs::path(opt.truthDir) / (stem + ".coverage.png");
       if (opt.leaveOneOut && !v.maskPath.empty()) {
         Image8 mask = readImage(v.maskPath, 1);
         if (mask.width != cam.width || mask.height != cam.height) mask = resizeImage(mask, cam.width, cam.height);

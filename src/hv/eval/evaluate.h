@@ -27,6 +27,11 @@ struct EvalOptions {
   // photographs and scored against itself (resized to the output size), over its unmasked pixels.
   // truthDir is not used.
   bool leaveOneOut = false;
+  // The file-name stem of a view's truth image in truthDir, called once per view in order: the
+  // stem `histoview render` writes for the view's id (hv::app::OutputNames, so an id such as
+  // "../x" never names a file outside truthDir). Unset: the id itself, refused when it is not a
+  // plain file name.
+  std::function<std::string(const std::string& id)> truthStem;
 };
 
 // Renders and scores every view. A view whose truth is missing or unreadable is reported in

@@ -33,22 +33,6 @@ const char* levelName(CheckItem::Level l) {
 
 }  // namespace
 
-CLI::Validator sigmaValue() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double v = std::numeric_limits<double>::quiet_NaN();
-        std::istringstream in(text);
-        in >> v;
-        const bool whole = in && (in >> std::ws).eof();
-        if (whole && std::isfinite(v) && v > 0.0 && v <= kMaxSigma) return "";
-        std::ostringstream m;
-        m << "expected a distance in scene units, greater than 0 and at most " << kMaxSigma << ", got '" << text
-          << "' (leave --sigma out for the default, the camera spacing)";
-        return m.str();
-      },
-      "SIGMA");
-}
-
 CLI::Validator positiveCount() {
   return CLI::Validator(
       [](std::string& text) -> std::string {

@@ -21,11 +21,6 @@ class Validator;
 
 namespace hv::app {
 
-// --sigma: a positive, finite distance up to kMaxSigma scene units (beyond it, and for inf, the
-// weights 1/(sigma^2 + d^2) all underflow to the same value and the picture is black; 0, negative
-// or NaN used to mean "the default" silently). Leaving the option out is the default.
-inline constexpr double kMaxSigma = 1e7;
-CLI::Validator sigmaValue();
 // A whole number >= 1 (--k and the other counts): CLI11 names the option, the message the value,
 // where CLI11's PositiveNumber prints a 309-digit range.
 CLI::Validator positiveCount();
