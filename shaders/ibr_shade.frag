@@ -13,6 +13,7 @@ precision highp sampler2DArray;
 #include "ibr_common.glsl"
 #include "image_test.glsl"
 #include "colormap.glsl"
+#include "untextured.glsl"
 
 // The photographs and their depth maps: one texture2DArray of each, or with HV_NAIVE the baseline
 // the papers improve on (Brédif 2013; de Castro & Brédif 2022 §2.1), one sampler2D per photograph
@@ -59,6 +60,19 @@ void writeBackground() {
   o_color = colourMode() ? vec4(u_background, 0.0) : vec4(0.0);
 }
 
+// Where no photograph contributes, alpha 0 (not covered). In the picture (u_mode 0) a surface is
+// shaded and a pixel without geometry shows the sky (untextured.glsl), each unless switched off;
+// otherwise, and in the debug views, the background colour.
+void writeUncovered(bool surface, vec3 ray, vec3 normal) {
+  if (u_mode == 0 && surface && u_shading) {
+    o_color = vec4(hv_shadeUntextured(dot(normal, ray) > 0.0 ? -normal : normal), 0.0);
+  } else if (u_mode == 0 && !surface && u_sky) {
+    o_color = vec4(hv_skyColor(ray), 0.0);
+  } else {
+    writeBackground();
+  }
+}
+
 vec4 encodeCount(int n) { return vec4(float(n & 255) / 255.0, float(n >> 8) / 255.0, 0.0, 1.0); }
 
 // Whether image `im` may texture P: projection, distortion domain, image bounds, and whether the
@@ -96,9 +110,11 @@ void main() {
   // Everything up to the normal runs in uniform control flow: derivatives are only defined there.
   vec2 pIdeal = gl_FragCoord.xy;
   bool background = false;
+  bool outsideLens = false;
   if (u_useLookup) {
     vec4 l = texelFetch(u_idealLookup, ivec2(gl_FragCoord.xy), 0);
-    background = l.z < 0.5;  // outside the distortion domain
+    outsideLens = l.z < 0.5;  // outside the distortion domain: no ray
+    background = outsideLens;
     pIdeal = l.xy;
   }
   vec2 t = (pIdeal - u_viewRectMin) * u_viewRectInvSize;
@@ -113,7 +129,8 @@ void main() {
   vec3 normal = cross(dFdx(P), dFdy(P));
   normal = dot(normal, normal) > 0.0 ? normalize(normal) : vec3(0.0, 0.0, 1.0);
   if (background) {
-    writeBackground();
+    if (outsideLens) writeBackground();
+    else writeUncovered(false, ray, normal);
     return;
   }
   // When the surface under this pixel existed (terrain: always).
@@ -172,7 +189,7 @@ void main() {
     return;
   }
   if (alpha <= 0.0) {
-    writeBackground();
+    writeUncovered(!onSphere, ray, normal);
     return;
   }
   o_color = u_mode == 5 ? vec4(hv_colorRamp(share), 1.0) : vec4(sum / alpha, 1.0);

@@ -57,7 +57,10 @@ int runDemo(const DemoCommandOptions& o) {
   auto context = gpu::createHeadlessContext();
   render::RenderSettings settings;
   settings.blend.k = o.k;
+  // The renders show what the methods cover, on black as in the papers: no shaded surfaces, no sky.
   settings.background = glm::dvec3(0.0);
+  settings.untextured.shading = false;
+  settings.untextured.sky = false;
   render::Renderer renderer(scene, settings, diag);
 
   const std::string renderDir = (fs::path(o.out) / "renders").string();

@@ -114,6 +114,23 @@ TEST(ViewOptions, TheOptionsOfEarlierVersionsKeepTheirMeaning) {
   EXPECT_EQ(parse({"--exclude", "a", "--exclude", "b"}).blend.exclude, (std::vector<std::string>{"a", "b"}));
 }
 
+TEST(ViewOptions, AGivenBackgroundColourReplacesTheSkyUnlessTheSkyIsAskedFor) {
+  const render::RenderSettings byDefault = parse({});
+  EXPECT_TRUE(byDefault.untextured.sky);
+  EXPECT_TRUE(byDefault.untextured.shading);
+  const render::RenderSettings given = parse({"--background", "0,0,0"});
+  EXPECT_FALSE(given.untextured.sky);
+  EXPECT_TRUE(given.untextured.shading);  // surfaces stay shaded: --no-shading for the flat colour there
+  EXPECT_TRUE(parse({"--background", "10,20,30", "--sky"}).untextured.sky);
+  const render::RenderSettings off =
+      parse({"--no-shading", "--no-sky", "--sun-azimuth", "90", "--sun-elevation", "30"});
+  EXPECT_FALSE(off.untextured.shading);
+  EXPECT_FALSE(off.untextured.sky);
+  EXPECT_EQ(off.untextured.sunAzimuthDeg, 90.0);
+  EXPECT_EQ(off.untextured.sunElevationDeg, 30.0);
+  EXPECT_NE(parseError({"--sun-elevation", "95"}).find("0-90"), std::string::npos);
+}
+
 TEST(ViewOptions, BadValuesAreRefusedNamingTheOptionAndTheExpectation) {
   const std::string k = parseError({"--k", "0"});
   EXPECT_NE(k.find("--k"), std::string::npos) << k;

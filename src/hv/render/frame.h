@@ -8,6 +8,7 @@
 
 #include "hv/ibr/frame_plan.h"
 #include "hv/render/renderer.h"
+#include "hv/render/untextured.h"
 
 #include <glm/glm.hpp>
 
@@ -154,6 +155,8 @@ struct Frame {
   double meshPushBack = 0.0;      // in the mesh's shadow test (points share the depth maps)
   double sphereRadius = 0.0;      // background sphere, 0: none
   glm::dvec3 background{0.0};
+  UntexturedSettings untextured;  // where no photograph contributes (render/untextured.h)
+  glm::dvec3 up{0.0, 0.0, 1.0};   // Scene::up
   DebugPass debug;
   bool withCounts = false;        // counts and loop lengths read back
   bool readBackColour = true;

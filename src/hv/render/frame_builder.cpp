@@ -406,6 +406,8 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   f.tileSize = std::max(1, settings_.tileSize);
   f.meshPushBack = meshPushBack();
   f.background = settings_.background;
+  f.untextured = settings_.untextured;
+  f.up = scene_.up;
   f.debug.view = settings_.debug.view;
   f.debug.photo = settings_.debug.photo;
   f.debug.slot = debugSlot;

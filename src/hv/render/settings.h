@@ -4,6 +4,7 @@
 #pragma once
 
 #include "hv/ibr/frame_plan.h"
+#include "hv/render/untextured.h"
 #include "hv/scene/point_colors.h"
 
 #include <glm/glm.hpp>
@@ -109,7 +110,10 @@ struct RenderSettings {
   Binding binding = Binding::Array;
   ibr::BlendSettings blend;
   int depthSize = 1024;               // depth-map resolution (square)
-  glm::dvec3 background{0.0};         // [0, 1] RGB where no image contributes
+  // [0, 1] RGB where no image contributes and untextured.shading (surfaces) or untextured.sky
+  // (pixels without geometry) is off, in the debug views, and outside a distorted view's lens domain.
+  glm::dvec3 background{0.0};
+  UntexturedSettings untextured;  // shaded surfaces and the sky where no photograph contributes
   // Pixels that see no geometry are projected onto a sphere of this radius (scene units) around the
   // view, as iTowns' backgroundDistance: > 0 always, 0 never, < 0 only in a scene without geometry
   // (a panorama collection), with radius kDefaultSphereRadius.

@@ -153,8 +153,9 @@ Entry windowEnd(bool from) {
 }
 
 std::vector<Setting> makeSchema() {
-  const std::string blend = "Blending", time = "Time window", depth = "Depth maps", layers = "Geometry",
-                    points = "Points", debug = "Debug", resources = "Resources";
+  const std::string blend = "Blending", untextured = "Untextured surfaces and sky", time = "Time window",
+                    depth = "Depth maps", layers = "Geometry", points = "Points", debug = "Debug",
+                    resources = "Resources";
   std::vector<Entry> t;
   // Brédif 2013 eq. 1-2: the K nearest cameras, weights f(d_i) - f(d_K+1), f(d) = 1/(sigma^2 + d^2).
   t.push_back(field("k", blend, "photographs blended per pixel (the K nearest cameras)",
@@ -172,12 +173,26 @@ std::vector<Setting> makeSchema() {
                     [](auto& s) -> auto& { return s.blend.frustumFilter; }));
   t.push_back(field("exclude", blend, "photograph ids left out (e.g. leave-one-out)",
                     [](auto& s) -> auto& { return s.blend.exclude; }));
-  t.push_back(field("background", blend, "colour where no photograph contributes",
+  t.push_back(field("background", blend, "colour where no photograph contributes: of surfaces when shading is off, "
+                    "of the sky when sky is off (on the command line, giving it turns the sky off)",
                     [](auto& s) -> auto& { return s.background; }));
   t.push_back(field("background-distance", blend, "where no geometry is seen, project the photographs onto a "
                     "sphere of this radius around the view (iTowns' backgroundDistance); 0: never; auto: only in "
                     "a scene without geometry, radius 100", [](auto& s) -> auto& { return s.backgroundSphere; })
                   .unit("scene units").atLeast(0).slider(1, 10000, true).autoDefault());
+
+  // Where no photograph contributes (render/untextured.h); never coverage (output alpha 0).
+  t.push_back(field("shading", untextured, "surfaces no photograph textures are drawn shaded (a neutral material "
+                    "under sky, ground and sun light), not in the background colour",
+                    [](auto& s) -> auto& { return s.untextured.shading; }));
+  t.push_back(field("sky", untextured, "pixels that see no geometry show a sky gradient, horizon to zenith, not the "
+                    "background colour", [](auto& s) -> auto& { return s.untextured.sky; }));
+  t.push_back(field("sun-azimuth", untextured, "shading: the sun's direction, clockwise from north (the scene's y "
+                    "axis when up is z) towards east", [](auto& s) -> auto& { return s.untextured.sunAzimuthDeg; })
+                  .unit("degrees").range(0, 360));
+  t.push_back(field("sun-elevation", untextured, "shading: the sun's height above the horizon",
+                    [](auto& s) -> auto& { return s.untextured.sunElevationDeg; })
+                  .unit("degrees").range(0, 90));
 
   t.push_back(windowEnd(true));
   t.push_back(windowEnd(false));

@@ -209,6 +209,9 @@ render::RenderSettings renderSettings(const ViewOptions& o) {
   for (const render::Setting& setting : render::settingsSchema())
     if (const auto it = o.settings.find(setting.name); it != o.settings.end())
       setting.set(s, render::parseSettingValue(setting, it->second));
+  // A background colour given on the command line is the colour of what no photograph covers and no
+  // geometry fills, as before there was a sky: the sky stays only when asked for as well.
+  if (o.settings.count("background") && !o.settings.count("sky")) s.untextured.sky = false;
   for (const std::string& layer : o.hide) {
     if (layer != "terrain" && layer != "buildings" && layer != "mesh")
       throw std::invalid_argument("--hide: expected terrain, buildings or mesh, got '" + layer + "'");

@@ -109,6 +109,16 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   debugImage = u.required("u_debugImage");
   background = u.required("u_background");
   mode = u.required("u_mode");
+  shading = u.required("u_shading");
+  sky = u.required("u_sky");
+  up = u.required("u_up");
+  sunDir = u.required("u_sunDir");
+  albedo = u.required("u_albedo");
+  skyLight = u.required("u_skyLight");
+  groundLight = u.required("u_groundLight");
+  sunLight = u.required("u_sunLight");
+  horizon = u.required("u_horizon");
+  zenith = u.required("u_zenith");
 }
 
 TileDepthProgram::TileDepthProgram(const ProgramSource& src) : program(linkProgram(src)) {

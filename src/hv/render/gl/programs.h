@@ -49,6 +49,9 @@ struct ShadeProgram {
         tileSize = -1, tilesX = -1, viewRectMin = -1, viewRectInvSize = -1, viewDepthSize = -1, viewNear = -1,
         viewFar = -1, sphereRadius = -1, viewCenter = -1, viewDirFromPix = -1, imageCount = -1, method = -1,
         occlusion = -1, debugImage = -1, background = -1, mode = -1;
+  // shaders/untextured.glsl: where no photograph contributes.
+  GLint shading = -1, sky = -1, up = -1, sunDir = -1, albedo = -1, skyLight = -1, groundLight = -1, sunLight = -1,
+        horizon = -1, zenith = -1;
   ShadeProgram() = default;
   // naiveCount > 0: the naive binding with that many images.
   explicit ShadeProgram(const ProgramSource& src, int naiveCount = 0);

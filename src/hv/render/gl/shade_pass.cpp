@@ -5,6 +5,7 @@
 #include "hv/render/gl/gl_backend.h"
 
 #include "hv/gpu/textures.h"
+#include "hv/render/untextured.h"
 
 #include <stdexcept>
 
@@ -102,6 +103,19 @@ void GlBackend::bindShadeInputs(const Frame& f) {
   glUniform1i(p.occlusion, f.blend.occlusion ? 1 : 0);
   glUniform1i(p.debugImage, f.debug.image);
   glUniform3f(p.background, float(f.background.r), float(f.background.g), float(f.background.b));
+  // Where no photograph contributes (shaders/untextured.glsl, render/untextured.h).
+  const UntexturedSettings& u = f.untextured;
+  auto vec3 = [](GLint location, const glm::dvec3& v) { glUniform3f(location, float(v.x), float(v.y), float(v.z)); };
+  glUniform1i(p.shading, u.shading ? 1 : 0);
+  glUniform1i(p.sky, u.sky ? 1 : 0);
+  vec3(p.up, glm::normalize(f.up));
+  vec3(p.sunDir, sunDirection(f.up, u));
+  vec3(p.albedo, u.albedo);
+  vec3(p.skyLight, u.skyLight);
+  vec3(p.groundLight, u.groundLight);
+  vec3(p.sunLight, u.sunLight);
+  vec3(p.horizon, u.horizon);
+  vec3(p.zenith, u.zenith);
 }
 
 }  // namespace hv::render::gl
