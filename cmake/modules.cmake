@@ -109,7 +109,7 @@ function(hv_define_modules)
   hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl
             PRIVATE_EXTERNAL cli11 stb json)
   hv_module(demo DIRS demo DEPS camera image scene scene_native PRIVATE_DEPS image_native io io_native
-            PRIVATE_EXTERNAL json)
+            PRIVATE_EXTERNAL json gdal)
   if(HV_HAVE_VIEWER)
     hv_module(gpu_glfw DIRS gpu/platform/glfw DEPS gpu PRIVATE_EXTERNAL glfw imgui)
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/no_viewer\\.cpp$" DEPS session

@@ -11,8 +11,8 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/scene_loader.h"
 
-#include "hv/session/session.h"
 #include "hv/image/native/png_write.h"
+#include "hv/session/session.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -109,9 +109,8 @@ int runDemo(const DemoCommandOptions& o) {
   std::ofstream(pointJson) << eval::toJson(pointReport).dump(2) << "\n";
 
   std::cout << "\nscene:   " << city.scenePath << "\nrenders: " << renderDir << "/, " << pointDir
-            << "/\nreports: " << jsonPath << ", " << pointJson
-            << "\ndone in " << std::setprecision(1) << std::chrono::duration<double>(clock::now() - t0).count()
-            << " s\n";
+            << "/\nreports: " << jsonPath << ", " << pointJson << "\ndone in " << std::setprecision(1)
+            << std::chrono::duration<double>(clock::now() - t0).count() << " s\n";
   return diag.ok() ? 0 : 1;
 }
 
@@ -122,9 +121,20 @@ void addDemoCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<DemoCommandOptions>();
   cmd->add_option("--out", o->out, "output directory")->capture_default_str();
   cmd->add_option("--seed", o->demo.seed, "city seed (deterministic)")->capture_default_str();
-  cmd->add_option("--buildings", o->demo.buildings, "number of buildings")->check(CLI::Range(1, 500))->capture_default_str();
-  cmd->add_option("--photos", o->demo.photos, "number of photographs")->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd->add_option("--views", o->demo.views, "number of held-out views")->check(CLI::Range(1, 1000))->capture_default_str();
+  auto* buildings = cmd->add_option("--buildings", o->demo.buildings, "number of buildings")
+                        ->check(CLI::Range(1, 500))
+                        ->capture_default_str();
+  cmd->add_option("--blocks", o->demo.blocks,
+                  "a large city of about this many blocks (6 lots each, 90 % built): ground truth, photographs "
+                  "and lidar around the centre, DTM as a Cloud-Optimized GeoTIFF, footprints as a GeoPackage")
+      ->check(CLI::Range(1, 20000))
+      ->excludes(buildings);
+  cmd->add_option("--photos", o->demo.photos, "number of photographs")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  cmd->add_option("--views", o->demo.views, "number of held-out views")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
   cmd->add_option("--k", o->k, "images blended per pixel")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--generate-only", o->generateOnly, "only write the city (scene, photographs, truth)");
   setAction(*cmd, exitCode, [o] { return runDemo(*o); });

@@ -30,11 +30,11 @@
 
 #include "hv/camera/camera.h"
 #include "hv/image/image.h"
-#include "hv/scene/point_cloud.h"
 #include "hv/scene/heightfield.h"
-#include "hv/scene/native/lod1.h"
 #include "hv/scene/mesh.h"
+#include "hv/scene/native/lod1.h"
 #include "hv/scene/native/raycast.h"
+#include "hv/scene/point_cloud.h"
 
 namespace hv::demo {
 
@@ -78,9 +78,16 @@ struct CitySettings {
   // Distortion: displacement at the image corner, pixels (p_d - p).
   double distortionCornerMin = 6.0, distortionCornerMax = 15.0;
   double maskDilation = 2.0;  // pixels (Chebyshev), around car pixels
+  // Large cities (DemoOptions::blocks > 0, docs/demo-city.md): blocks on a fixed lattice around
+  // the centre block, so that the centre is the same whatever the size.
+  double largeDtmCell = 4.0;     // DTM grid spacing (the small city keeps dtmCell)
+  double lotFill = 0.9;          // share of the lots that are built
+  double courtyardShare = 0.08;  // share of the built lots with a courtyard
+  int truthRadius = 3;           // blocks around the centre block with the full ground truth (7 x 7 blocks)
+  int surveyRadius = 1;          // blocks around the centre block whose streets the cameras and the lidar use
 };
 
-// The simulated mobile-mapping scan: a vehicle drives every street in its
+// The simulated mobile-mapping scan: a vehicle drives every survey street (World::surveyStreets) in its
 // right-hand lane; a scanner on its roof turns in the vertical plane across the street and
 // casts `raysPerProfile` rays per turn, one turn every `profileSpacing` metres of travel.
 struct LidarSettings {
@@ -93,7 +100,11 @@ struct LidarSettings {
 
 struct DemoOptions {
   std::uint32_t seed = 1;
-  int buildings = 40;
+  int buildings = 40;  // the small city (blocks == 0)
+  // > 0: a large city of about this many blocks (6 lots each, CitySettings::lotFill of them built)
+  // instead of `buildings`: full ground truth, cameras and lidar only around the centre, the DTM as
+  // a Cloud-Optimized GeoTIFF and the footprints as a GeoPackage (docs/demo-city.md).
+  int blocks = 0;
   int photos = 36;
   int views = 8;
   int samplesPerAxis = 2;  // supersampling: samplesPerAxis^2 rays per pixel
@@ -167,13 +178,16 @@ struct Building {
 
 struct World {
   DemoOptions options;
-  glm::dvec3 origin{0.0};  // world point the procedural patterns are computed relative to
-  Layer truth;             // terrain, kerbs, buildings with openings and balconies: photos and views
-  Layer trees;             // today's city only: in no photo and no view
-  Layer parkedCars;        // today's city only: in no photo and no view
+  glm::dvec3 origin{0.0};             // world point the procedural patterns are computed relative to
+  Layer truth;                        // terrain, kerbs, buildings with openings and balconies: photos and views
+  Layer trees;                        // today's city only: in no photo and no view
+  Layer parkedCars;                   // today's city only: in no photo and no view
   std::vector<Footprint> footprints;  // the LOD1 inputs given to the renderer (buildings.geojson)
   std::vector<Building> buildings;
   std::vector<Street> streets;
+  // The streets the cameras walk and the lidar vehicle drives: all of them in the small city,
+  // those around the centre (CitySettings::surveyRadius) in a large one.
+  std::vector<Street> surveyStreets;
   Heightfield dtm;                         // the renderer's terrain (dtm.tif)
   Aabb cityBounds;                         // the street grid (cameras stay inside)
   glm::dvec3 sunDirection{0.0, 0.0, 1.0};  // towards the sun, unit
@@ -189,7 +203,31 @@ struct World {
   bool insideBuilding(double x, double y) const;
 };
 
+// The city's world model. For a large city (options.blocks > 0) only the blocks within
+// CitySettings::truthRadius of the centre get ground-truth geometry, buildings, trees and cars; the
+// DTM covers the whole city.
 World buildWorld(const DemoOptions& options);
+
+// The lattice of a large city: block (i, j), i in [i0, i0 + nbx), j in [j0, j0 + nby), is centred
+// on originXY + (i * pitchX, j * pitchY); streets run between blocks and around the city.
+struct BlockGrid {
+  int nbx = 0, nby = 0, i0 = 0, j0 = 0;
+  double blockW = 0.0, blockD = 0.0, streetWidth = 0.0, pitchX = 0.0, pitchY = 0.0;
+  glm::dvec2 origin{0.0};
+  glm::dvec2 blockCorner(int i, int j) const;  // south-west corner of block (i, j)
+  double streetX(int i) const;                 // centre line of the street west of block column i
+  double streetY(int j) const;                 // centre line of the street south of block row j
+  glm::dvec2 lo() const;                       // the whole street grid, south-west corner
+  glm::dvec2 hi() const;                       // north-east corner
+};
+// About `blocks` blocks, nbx x nby, the city roughly square in metres.
+BlockGrid blockGrid(const CitySettings& city, int blocks);
+
+// Every LOD1 footprint of a large city, block row by block row, south to north (row j0 + r is
+// done when rowDone(r + 1, nby) is called). The ground-truth buildings of buildWorld are these
+// same footprints (same ids, rings and heights). Ids: "b<i>_<j>_<lot>", stable across city sizes.
+void forEachFootprint(const DemoOptions& options, const std::function<void(const Footprint&)>& visit,
+                      const std::function<void(int done, int rows)>& rowDone = {});
 
 // Ground-truth colour (linear in [0,1], the value written to 8-bit images after clamping and
 // rounding) of a surface point: procedural albedo under the fixed lighting. `hit` must come from
@@ -244,13 +282,14 @@ PointCloud simulateLidar(const World& world);
 
 struct DemoSummary {
   std::string scenePath, viewsPath, truthDir;
-  int photos = 0, views = 0, buildings = 0;
-  std::size_t points = 0;  // of the simulated lidar scan
+  int photos = 0, views = 0, buildings = 0;  // buildings: LOD1 footprints written
+  std::size_t points = 0;                    // of the simulated lidar scan
 };
 
 // Writes the demo scene into outDir (created): scene.json, dtm.tif, buildings.geojson,
 // points.las and points.ply (the lidar scan), cameras.json, images/, masks/, views.json, truth/
-// (see docs/demo-city.md).
+// (see docs/demo-city.md). A large city writes dtm.tif as a Cloud-Optimized GeoTIFF (tiled, with
+// overviews) and buildings.gpkg (GeoPackage with its spatial index) instead of buildings.geojson.
 DemoSummary generate(const DemoOptions& options, const std::string& outDir,
                      std::function<void(const std::string&)> progress = {});
 

@@ -2,11 +2,15 @@
 // and mesh-building helpers. Not part of the public API.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <string>
+#include <vector>
 
 #include "hv/demo/demo_city.h"
+#include "hv/demo/footprint_shapes.h"
 
 namespace hv::demo::detail {
 
@@ -67,12 +71,45 @@ inline double valueNoise(glm::dvec3 p, std::uint64_t salt) {
 // `outward`, so the mesh follows hv/scene/mesh.h's counter-clockwise-from-outside rule.
 void addQuad(Layer& layer, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d, glm::dvec3 outward,
              std::uint32_t surface);
-void addTriangle(Layer& layer, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 outward,
-                 std::uint32_t surface);
+void addTriangle(Layer& layer, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 outward, std::uint32_t surface);
 // An oriented box: centre, three orthonormal axes and half-extents along them; faces outward.
 void addBox(Layer& layer, glm::dvec3 centre, glm::dvec3 ax, glm::dvec3 ay, glm::dvec3 az, glm::dvec3 half,
             std::uint32_t surface);
 std::uint32_t addSurface(Layer& layer, const Surface& s);
+
+// A lot of a block: its street corner, along-street and into-block unit axes, size, and whether a
+// neighbouring lot (rather than a cross street) lies on either side.
+struct Lot {
+  glm::dvec2 origin, u, v;
+  double width, depth;
+  bool gapLeft, gapRight;
+};
+
+// The lots of the block whose south-west corner is b0 (two rows of lotsPerRow, row 0 on the south
+// street): the cut positions along the block are drawn from `rng`.
+std::vector<Lot> blockLots(const CitySettings& s, glm::dvec2 b0, double blockW, double blockD, Rng& rng);
+
+// A building's footprint on its lot: the shape (cells of the 3 x 3 lot grid), the grid lines in
+// the lot frame, the world rings (outer counter-clockwise first, holes clockwise) and the LOD1
+// height. Draws from `rng` in a fixed order (shape unless courtyard, grid lines, height).
+struct DrawnFootprint {
+  Shape shape = Shape::Rect;
+  CellSet cells{};
+  std::array<double, 4> us{}, vs{};
+  std::vector<std::vector<glm::dvec2>> rings;
+  double height = 0.0;
+};
+DrawnFootprint drawFootprint(const CitySettings& s, const Lot& lot, bool courtyard, Rng& rng);
+
+// Large cities: each block and each lot draws from its own generator, seeded from the seed and the
+// block's lattice position, so a block is the same whatever the city's size.
+Rng blockRng(std::uint32_t seed, int i, int j);
+struct LotDraw {
+  bool built = false, courtyard = false;
+  Rng rng{0};  // continues with drawFootprint, then the ground-truth details
+};
+LotDraw lotDraw(const CitySettings& s, std::uint32_t seed, int i, int j, int lot);
+std::string largeBuildingId(int i, int j, int lot);
 
 // A car (body, cabin, glass band, wheels) standing on the ground at `base`, heading along `dir`.
 void addCar(Layer& layer, glm::dvec3 base, glm::dvec2 dir, glm::dvec3 color);

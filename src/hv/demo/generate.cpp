@@ -8,12 +8,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "hv/demo/city_files.h"
 #include "hv/demo/demo_city.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/las_writer.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
-#include "hv/image/native/png_write.h"
 
 namespace hv::demo {
 
@@ -71,15 +72,46 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   World world = buildWorld(options);
   {
     std::ostringstream m;
-    m << "demo city: " << world.buildings.size() << " buildings, " << world.truth.mesh.triangles.size()
-      << " ground-truth triangles, " << world.trees.mesh.triangles.size() << " tree triangles";
+    m << "demo city: " << world.buildings.size() << " buildings" << (options.blocks > 0 ? " with ground truth" : "")
+      << ", " << world.truth.mesh.triangles.size() << " ground-truth triangles, " << world.trees.mesh.triangles.size()
+      << " tree triangles";
     say(m.str());
   }
-  writeGeoTiff((dir / "dtm.tif").string(), world.dtm, "EPSG:2154");
-  writeJson(dir / "buildings.geojson", buildingsGeoJson(world));
+  const bool large = options.blocks > 0;
+  std::size_t footprints = world.footprints.size();
+  if (!large) {
+    writeGeoTiff((dir / "dtm.tif").string(), world.dtm, "EPSG:2154");
+    writeJson(dir / "buildings.geojson", buildingsGeoJson(world));
+  } else {
+    const auto tFiles = std::chrono::steady_clock::now();
+    detail::writeCog((dir / "dtm.tif").string(), world.dtm, "EPSG:2154");
+    {
+      std::ostringstream m;
+      m << "demo city: DTM " << world.dtm.cols << " x " << world.dtm.rows << " cells of " << world.dtm.cellX
+        << " m (Cloud-Optimized GeoTIFF)";
+      say(m.str());
+    }
+    detail::GeoPackageWriter gpkg((dir / "buildings.gpkg").string(), "EPSG:2154");
+    int reported = 0;
+    forEachFootprint(
+        options, [&](const Footprint& fp) { gpkg.add(fp); },
+        [&](int done, int rows) {
+          // A line per tenth of the rows, whatever the size.
+          if (done * 10 / rows == reported) return;
+          reported = done * 10 / rows;
+          say("demo city: footprints, block row " + std::to_string(done) + "/" + std::to_string(rows) + " (" +
+              std::to_string(gpkg.count()) + " buildings)");
+        });
+    gpkg.close();
+    footprints = gpkg.count();
+    std::ostringstream m;
+    m << "demo city: " << footprints << " footprints (GeoPackage), DTM and footprints written in "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - tFiles).count() << " s";
+    say(m.str());
+  }
   const auto tScan = std::chrono::steady_clock::now();
   const PointCloud scan = simulateLidar(world);
-  writeLas((dir / "points.las").string(), scan);  // LAS 1.2, format 3 (RGB)
+  writeLas((dir / "points.las").string(), scan);        // LAS 1.2, format 3 (RGB)
   writePlyPoints((dir / "points.ply").string(), scan);  // the same points with their normals
   {
     const auto h = scan.classHistogram();
@@ -89,11 +121,12 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - tScan).count() << " s";
     say(m.str());
   }
-  writeJson(dir / "scene.json", {{"crs", "EPSG:2154"},
-                                 {"terrain", {{"path", "dtm.tif"}}},
-                                 {"buildings", {{"path", "buildings.geojson"}, {"height", "height"}}},
-                                 {"points", {{"path", "points.las"}}},
-                                 {"cameras", {{"path", "cameras.json"}}}});
+  writeJson(dir / "scene.json",
+            {{"crs", "EPSG:2154"},
+             {"terrain", {{"path", "dtm.tif"}}},
+             {"buildings", {{"path", large ? "buildings.gpkg" : "buildings.geojson"}, {"height", "height"}}},
+             {"points", {{"path", "points.las"}}},
+             {"cameras", {{"path", "cameras.json"}}}});
 
   const RayCaster caster(world.truth.mesh);
   const ShotPlan plan = planShots(world, caster);
@@ -139,7 +172,7 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   summary.truthDir = (dir / "truth").string();
   summary.photos = int(plan.photos.size());
   summary.views = int(plan.views.size());
-  summary.buildings = int(world.buildings.size());
+  summary.buildings = int(footprints);
   summary.points = scan.size();
   return summary;
 }

@@ -24,6 +24,7 @@ std::uint16_t to16(double c) {  // 8-bit value as LAS 16-bit colour, so LAS and 
 }  // namespace
 
 PointCloud simulateLidar(const World& world) {
+  // The vehicle drives the survey streets: all of them in the small city, the central ones in a large one.
   const LidarSettings& ls = world.options.lidar;
   // Everything that stands in today's city, in one layer so that shade() finds each hit's surface.
   Layer scanned = world.truth;
@@ -32,7 +33,7 @@ PointCloud simulateLidar(const World& world) {
   const RayCaster caster(scanned.mesh);
 
   std::vector<Turn> turns;
-  for (const Street& st : world.streets) {
+  for (const Street& st : world.surveyStreets) {
     const glm::dvec2 along = st.alongX ? glm::dvec2(1, 0) : glm::dvec2(0, 1);
     const glm::dvec2 left(-along.y, along.x);
     const glm::dvec2 centre = st.alongX ? glm::dvec2(0, st.centre) : glm::dvec2(st.centre, 0);
@@ -68,7 +69,9 @@ PointCloud simulateLidar(const World& world) {
         const glm::dvec3 c = shade(world, scanned, *hit);
         const double luma = 0.299 * c.r + 0.587 * c.g + 0.114 * c.b;
         const auto material = Material(scanned.mesh.triangleTags[hit->triangle]);
-        hits[t].push_back({hit->position, glm::vec3(n), {to16(c.r), to16(c.g), to16(c.b)},
+        hits[t].push_back({hit->position,
+                           glm::vec3(n),
+                           {to16(c.r), to16(c.g), to16(c.b)},
                            std::uint16_t(std::lround(65535.0 * glm::clamp(luma * -glm::dot(n, dir), 0.0, 1.0))),
                            asprsClass(material)});
       }

@@ -46,10 +46,7 @@ constexpr Size kPhotoSizes[] = {{320, 240}, {400, 300}, {360, 270}, {300, 300}};
 class Planner {
  public:
   Planner(const World& w, const RayCaster& caster)
-      : w_(w),
-        s_(w.options.city),
-        caster_(caster),
-        rng_(0xca3e7a5ULL ^ (std::uint64_t(w.options.seed) << 20)) {}
+      : w_(w), s_(w.options.city), caster_(caster), rng_(0xca3e7a5ULL ^ (std::uint64_t(w.options.seed) << 20)) {}
 
   ShotPlan plan() {
     const DemoOptions& o = w_.options;
@@ -67,8 +64,7 @@ class Planner {
     const int nWalks = std::max({nViews, int((streetPhotos.size() + 3) / 4), 1});
     size_t nextPhoto = 0;
     for (int k = 0; k < nWalks; ++k) {
-      const int nPhotos =
-          int(streetPhotos.size() / size_t(nWalks)) + (k < int(streetPhotos.size() % size_t(nWalks)));
+      const int nPhotos = int(streetPhotos.size() / size_t(nWalks)) + (k < int(streetPhotos.size() % size_t(nWalks)));
       const bool hasView = k < nViews;
       const int poses = nPhotos + (hasView ? 1 : 0);
       if (poses == 0) continue;
@@ -89,8 +85,7 @@ class Planner {
       Shot& shot = out.photos[size_t(i)];
       if (shot.elevated) shot.camera = elevated();
       const Size size = kPhotoSizes[rng_.integer(0, 3)];
-      finishIntrinsics(shot.camera, size,
-                       shot.elevated ? rng_.uniform(45.0, 65.0) : rng_.uniform(50.0, 75.0));
+      finishIntrinsics(shot.camera, size, shot.elevated ? rng_.uniform(45.0, 65.0) : rng_.uniform(50.0, 75.0));
       if (i % 6 == 2) addDistortion(shot.camera);
       // Cars go to every third photograph, masked in every other one of those. A camera that sees
       // no carriageway passes its role on to the next plain street-level photograph.
@@ -154,8 +149,7 @@ class Planner {
     for (glm::dvec2 corner :
          {glm::dvec2(0, 0), glm::dvec2(c.width, 0), glm::dvec2(0, c.height), glm::dvec2(c.width, c.height)})
       radius = std::max(radius, glm::length(corner - d.center));
-    const double disp =
-        rng_.uniform(s_.distortionCornerMin, s_.distortionCornerMax) * (rng_.chance(0.6) ? -1.0 : 1.0);
+    const double disp = rng_.uniform(s_.distortionCornerMin, s_.distortionCornerMax) * (rng_.chance(0.6) ? -1.0 : 1.0);
     d.c3 = 0.8 * disp / std::pow(radius, 3);
     d.c5 = 0.15 * disp / std::pow(radius, 5);
     d.c7 = 0.05 * disp / std::pow(radius, 7);
@@ -163,8 +157,7 @@ class Planner {
     c.distortion = d;
     for (glm::dvec2 corner :
          {glm::dvec2(0, 0), glm::dvec2(c.width, 0), glm::dvec2(0, c.height), glm::dvec2(c.width, c.height)})
-      if (!c.undistort(corner))
-        throw std::logic_error("demo city: distortion not invertible at an image corner");
+      if (!c.undistort(corner)) throw std::logic_error("demo city: distortion not invertible at an image corner");
   }
 
   // On a coarse ray grid: enough building, not too much sky, and not a wall filling the frame.
@@ -190,8 +183,8 @@ class Planner {
   bool placeable(glm::dvec3 centre) const {
     if (w_.insideBuilding(centre.x, centre.y)) return false;
     // Nothing (a balcony, a wall) within half a metre around the camera.
-    for (glm::dvec3 d : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0),
-                         glm::dvec3(0, 0, 1)})
+    for (glm::dvec3 d :
+         {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1)})
       if (caster_.occluded(centre, d, 0.0, 0.5)) return false;
     return true;
   }
@@ -199,7 +192,7 @@ class Planner {
   std::vector<Camera> walk(int poses) {
     for (int attempt = 0;; ++attempt) {
       if (attempt > 200) throw std::logic_error("demo city: no street-level camera sees the buildings");
-      const Street& st = w_.streets[size_t(rng_.integer(0, int(w_.streets.size()) - 1))];
+      const Street& st = w_.surveyStreets[size_t(rng_.integer(0, int(w_.surveyStreets.size()) - 1))];
       const double sgn = rng_.chance(0.5) ? 1.0 : -1.0;
       const double length = (poses - 1) * s_.walkStep;
       const double lo = st.from + w_.streetWidth, hi = st.to - w_.streetWidth - length;
@@ -224,10 +217,9 @@ class Planner {
         for (int look = 0; look < 30 && !ok; ++look) {
           // Along the street, or turned towards the façades of either side.
           const double mode = rng_.uniform();
-          double yaw = heading + (mode < 0.3 ? rng_.uniform(-12.0, 12.0)
-                                             : (mode < 0.65 ? 1.0 : -1.0) * rng_.uniform(20.0, 60.0));
-          c.camFromWorld =
-              camFromWorldOf(yaw * kDeg, rng_.uniform(2.0, 10.0) * kDeg, rng_.uniform(-1.5, 1.5) * kDeg);
+          double yaw = heading +
+                       (mode < 0.3 ? rng_.uniform(-12.0, 12.0) : (mode < 0.65 ? 1.0 : -1.0) * rng_.uniform(20.0, 60.0));
+          c.camFromWorld = camFromWorldOf(yaw * kDeg, rng_.uniform(2.0, 10.0) * kDeg, rng_.uniform(-1.5, 1.5) * kDeg);
           ok = seesCity(c, s_.streetCloseDistance);
         }
         if (!ok) break;
@@ -239,7 +231,7 @@ class Planner {
 
   Camera elevated() {
     for (int attempt = 0; attempt < 500; ++attempt) {
-      const Street& st = w_.streets[size_t(rng_.integer(0, int(w_.streets.size()) - 1))];
+      const Street& st = w_.surveyStreets[size_t(rng_.integer(0, int(w_.surveyStreets.size()) - 1))];
       const double along = rng_.uniform(st.from + 0.5 * w_.streetWidth, st.to - 0.5 * w_.streetWidth);
       const double across = st.centre + rng_.uniform(-3.0, 3.0);
       const glm::dvec2 xy = st.alongX ? glm::dvec2(along, across) : glm::dvec2(across, along);
@@ -355,8 +347,7 @@ Rendered renderShot(const World& world, const RayCaster& truthCaster, const Shot
             const Layer* layer = &world.truth;
             if (carCaster) {
               const double tMax = hit ? hit->t : 1e30;
-              if (auto carHit = carCaster->intersect(cam.center, *dir, 0.0, tMax);
-                  carHit && carHit->t < tMax) {
+              if (auto carHit = carCaster->intersect(cam.center, *dir, 0.0, tMax); carHit && carHit->t < tMax) {
                 hit = carHit;
                 layer = &shot.cars;
                 car = true;
