@@ -7,8 +7,8 @@
 //   - on the same 4 street views at 1280x720, K = 8, progressive frames as a viewer renders them:
 //     time to the first frame and to the converged frame (from process start for the first view,
 //     from the move for the others), then the steady frame time (median of batch frames);
-//   - triangles and tiles drawn per frame (RenderStats::trianglesDrawn / tilesDrawn when the
-//     renderer reports them; today it draws everything, so the scene's triangles), peak RSS;
+//   - triangles and tiles the view draws per frame (RenderStats::trianglesDrawn / tilesDrawn,
+//     after geometry culling), peak RSS;
 // and prints the large/small ratios, measured in the same run.
 // Usage: city_bench [--dir DIR] [--blocks SMALL,LARGE]
 //   --dir DIR: generate the cities into DIR/blocks<N>/ and keep them; a city already there is
@@ -67,22 +67,6 @@ double hwmMiB() {  // this process image's peak RSS (VmHWM)
 }
 
 void rule() { std::printf("%s\n", std::string(78, '-').c_str()); }
-
-// Drawn triangles and tiles, once the renderer reports them; -1 until then.
-template <typename S>
-double trianglesDrawn(const S& s) {
-  if constexpr (requires { s.trianglesDrawn; })
-    return double(s.trianglesDrawn);
-  else
-    return -1.0;
-}
-template <typename S>
-double tilesDrawn(const S& s) {
-  if constexpr (requires { s.tilesDrawn; })
-    return double(s.tilesDrawn);
-  else
-    return -1.0;
-}
 
 // A child reports "RESULT key value" lines; everything else it prints is passed through.
 using Results = std::map<std::string, double>;
@@ -161,9 +145,9 @@ int childMeasure(const std::string& dir) {
     std::vector<Timing> t;
     for (int i = 0; i < kSteadyFrames; ++i) t.push_back(measure([&] { renderer->render(view); }));
     const Timing m = median(t);
-    const double tri = trianglesDrawn(renderer->stats()), tiles = tilesDrawn(renderer->stats());
-    drawnTriangles += (tri < 0 ? sceneTriangles : tri) / kViews;
-    drawnTiles += tiles < 0 ? -1.0 / kViews : tiles / kViews;
+    const double tri = double(renderer->stats().trianglesDrawn), tiles = double(renderer->stats().tilesDrawn);
+    drawnTriangles += tri / kViews;
+    drawnTiles += tiles / kViews;
     std::printf(
         "    view %-10s first frame %8.0f ms, converged after %3d frames %8.0f ms, steady %8.1f ms (cpu %.1f)\n",
         view.id.c_str(), first, n, converged, m.wall, m.cpu);
@@ -305,10 +289,7 @@ int runParent(const fs::path& dir, int smallBlocks, int largeBlocks) {
   row("steady frame, CPU (ms)", "frame_cpu_ms", 1.0, "%.1f");
   row("scene triangles", "scene_triangles", 1.0, "%.0f");
   row("triangles drawn per frame", "triangles_drawn", 1.0, "%.0f");
-  if (a.count("tiles_drawn") && a.at("tiles_drawn") >= 0)
-    row("tiles drawn per frame", "tiles_drawn", 1.0, "%.0f");
-  else
-    std::printf("  %-44s %12s %12s %9s\n", "tiles drawn per frame", "n/a", "n/a", "-");
+  row("tiles drawn per frame", "tiles_drawn", 1.0, "%.0f");
   row("peak RSS (MiB)", "peak_hwm_mib", 1.0, "%.0f");
   rule();
   std::printf("  load average %s (end), %.0f s in all\n", loadAverage().c_str(), msSince(t0) / 1e3);

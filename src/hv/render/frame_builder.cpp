@@ -379,7 +379,9 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   f.rect.clipFromRender = hv::clipFromRender(view, f.rect.frustum, scene_.origin);
 
   f.layers = {settings_.layers.terrain, settings_.layers.buildings, settings_.layers.mesh};
-  f.draws = visibleRanges(tiles_, f.layers, f.rect.clipFromRender, settings_.geometryCulling, &stats_.viewTilesDrawn);
+  f.draws = visibleRanges(tiles_, f.layers, f.rect.clipFromRender, settings_.geometryCulling, &stats_.tilesDrawn);
+  stats_.trianglesDrawn = 0;
+  for (const DrawRange& r : f.draws) stats_.trianglesDrawn += r.count / 3;
   const PointSettings& ps = settings_.points;
   f.points.enabled = pointsActive();
   stats_.pointsDrawn = 0;

@@ -392,7 +392,7 @@ TEST_F(FrameBuilderTest, CullingKeepsEveryTriangleAFrustumSees) {
     EXPECT_LT(drawn, total) << what << " draws every triangle";
   };
   check(close, f.draws, "the view");
-  EXPECT_LT(builder.stats().viewTilesDrawn, builder.stats().geometryTiles);
+  EXPECT_LT(builder.stats().tilesDrawn, builder.stats().geometryTiles);
   for (const DepthMapJob& job : backend_.depthMaps) check(job.camera, job.draws, "depth map of " + job.camera.id);
 
   // Culling off: every tile, one range.
@@ -400,7 +400,7 @@ TEST_F(FrameBuilderTest, CullingKeepsEveryTriangleAFrustumSees) {
   const Frame all = builder.build(close, FrameMode::Batch, false);
   ASSERT_EQ(all.draws.size(), 1u);
   EXPECT_EQ(all.draws[0].count, int(g.indices.size()));
-  EXPECT_EQ(builder.stats().viewTilesDrawn, builder.stats().geometryTiles);
+  EXPECT_EQ(builder.stats().tilesDrawn, builder.stats().geometryTiles);
 }
 
 }  // namespace

@@ -42,8 +42,8 @@ TEST_F(GeometryCullingGlTest, CulledFramesAndDepthMapsEqualTheWholeOnes) {
     ASSERT_EQ(a.rgba.data.size(), b.rgba.data.size());
     EXPECT_TRUE(a.rgba.data == b.rgba.data) << "view " << city.views[v].camera.id;
     // A street view sees part of the city: fewer tiles, for the view and for the depth maps.
-    EXPECT_LT(culled.stats().viewTilesDrawn, all.stats().viewTilesDrawn) << city.views[v].camera.id;
-    EXPECT_EQ(all.stats().viewTilesDrawn, all.stats().geometryTiles);
+    EXPECT_LT(culled.stats().tilesDrawn, all.stats().tilesDrawn) << city.views[v].camera.id;
+    EXPECT_EQ(all.stats().tilesDrawn, all.stats().geometryTiles);
     EXPECT_GT(culled.stats().depthMapsThisFrame, 0);
     EXPECT_LT(culled.stats().depthMapTilesThisFrame, all.stats().depthMapTilesThisFrame);
   }

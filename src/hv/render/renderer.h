@@ -54,10 +54,11 @@ struct RenderStats {
   int debugImage = -1;
   int debugSlot = -1;
   double debugDepthNear = 0.0, debugDepthFar = 0.0;
-  // Geometry tiles (render/geometry_tiles.h): how many there are, how many the last frame's view
-  // drew, and how many its depth maps drew together.
+  // Geometry tiles (render/geometry_tiles.h): how many there are, how many tiles and triangles
+  // the last frame's view drew, and how many tiles its depth maps drew together.
   int geometryTiles = 0;
-  int viewTilesDrawn = 0;
+  int tilesDrawn = 0;
+  std::int64_t trianglesDrawn = 0;
   int depthMapTilesThisFrame = 0;
 };
 
