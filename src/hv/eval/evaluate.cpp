@@ -63,7 +63,7 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
       }
       const std::string truthPath = opt.leaveOneOut ? v.imagePath : findTruth(opt.truthDir, stem);
       if (truthPath.empty())
-        throw InputError(opt.truthDir + ": no truth image " + stem + ".png or " + stem + ".jpg (view '" + id + "')");
+        throw InputError(opt.truthDir + ": no truth image " + stem + ".png or " + stem + ".jpg");
       Image8 truth = readImage(truthPath, 3);
       if (opt.leaveOneOut && (truth.width != cam.width || truth.height != cam.height))
         truth = resizeImage(truth, cam.width, cam.height);
