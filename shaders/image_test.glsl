@@ -82,24 +82,74 @@ bool hv_shadowed(HvImage im, float z, float stored, vec3 normal, vec3 P, float p
   return z > zMap + push + hv_shadowBias(im, z, normal, toP);
 }
 
-// The running blend of one pixel (Brédif 2013 eq. 1-2, premultiplied).
+// Which photographs a pixel blends (hv::ibr::Selection): false, the papers' global selection,
+// each image's weight is its global w_i = f(d_i) - f(d_K+1); true, per pixel, each image carries
+// f(d_i) and the first u_blendK images that pass every test are blended with the K+1-th that
+// passes at this pixel subtracted.
+uniform bool u_region;
+uniform int u_blendK;
+
+// The running blend of one pixel (Brédif 2013 eq. 1-2, premultiplied). sum and alpha always hold
+// the blend so far, so a caller reads them whenever its loop ends.
 struct HvBlend {
   vec3 sum;
   float alpha;
   int count;
-  bool done;   // nearest: the first image that passes every test wins
+  bool done;   // nearest: the first image that passes every test wins; region: the K+1-th passed
   float mine;  // what image `debugImage` added to alpha (its share is mine / alpha)
+  // Region: sum and alpha are S1 = sum f_i a_i c_i and A1 = sum f_i a_i over the first K passing;
+  // these are S0 = sum a_i c_i, A0 = sum a_i, the debug image's a_i, how many passed, and the
+  // last f with how many of the last passing share it (they lose their weight on a tie with
+  // f(d_K+1)).
+  vec3 sum0;
+  float alpha0;
+  float mine0;
+  int passed;
+  float fLast;
+  int ties;
 };
 
-HvBlend hv_noBlend() { return HvBlend(vec3(0.0), 0.0, 0, false, 0.0); }
+HvBlend hv_noBlend() { return HvBlend(vec3(0.0), 0.0, 0, false, 0.0, vec3(0.0), 0.0, 0.0, 0, 0.0, 0); }
 
 // Mask and blend: image `i`'s texel (premultiplied, alpha = mask) added to `b`; `nearest`: images
-// are sorted by distance, the first that passes wins. `debugImage`: the image whose share is kept
-// in b.mine (-1: none). Twin of the loop body of hv::ibr::referenceBlend.
+// are sorted by distance, the first that passes wins. An image whose mask is 0 here does not pass
+// (it does not show this surface), so in region selection the next one takes its place.
+// `debugImage`: the image whose share is kept in b.mine (-1: none). Twin of the loop body of
+// hv::ibr::referenceBlend.
 void hv_accumulate(int i, HvImage im, vec4 texel, bool nearest, int debugImage, inout HvBlend b) {
   if (texel.a <= 0.0) return;
   if (nearest) {
-    b = HvBlend(texel.rgb, texel.a, 1, true, i == debugImage ? texel.a : 0.0);
+    b = HvBlend(texel.rgb, texel.a, 1, true, i == debugImage ? texel.a : 0.0, vec3(0.0), 0.0, 0.0, 1, 0.0, 0);
+    return;
+  }
+  if (u_region) {
+    float f = im.weight;  // f(d_i), images in ascending distance
+    if (b.passed == u_blendK) {
+      // The K+1-th passing image: (S1 - f S0) / (A1 - f A0), the pixel's own eq. 2.
+      b.sum -= f * b.sum0;
+      b.alpha -= f * b.alpha0;
+      b.mine -= f * b.mine0;
+      if (f >= b.fLast) b.count -= b.ties;
+      if (b.count == 0) {
+        b.sum = vec3(0.0);
+        b.alpha = 0.0;
+        b.mine = 0.0;
+      }
+      b.done = true;
+      return;
+    }
+    b.passed += 1;
+    b.sum += f * texel.rgb;
+    b.alpha += f * texel.a;
+    b.sum0 += texel.rgb;
+    b.alpha0 += texel.a;
+    b.count += 1;
+    b.ties = f == b.fLast ? b.ties + 1 : 1;
+    b.fLast = f;
+    if (i == debugImage) {
+      b.mine = f * texel.a;
+      b.mine0 = texel.a;
+    }
     return;
   }
   if (im.weight <= 0.0) return;

@@ -9,14 +9,15 @@
 namespace hv::ibr {
 
 FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& s,
-                    const Aabb& bounds) {
+                    const Aabb& bounds, const FrustumIndex* frusta) {
   FramePlan plan;
   plan.view = view;
   plan.settings = s;
   plan.sigma = s.sigma > 0.0 ? s.sigma : scene.cameraSpacing();
   const bool filter = s.frustumFilter && !bounds.empty();
   const FrustumCorners viewFrustum = filter ? sceneFrustum(view, bounds) : FrustumCorners{};
-  auto keep = [&](int i) {
+  // The time window, the exclusions (what any selection filters), then the frustum overlap.
+  auto keepMeta = [&](int i) {
     const Camera& cam = scene.photos[size_t(i)].camera;
     if (std::find(s.exclude.begin(), s.exclude.end(), cam.id) != s.exclude.end()) return false;
     if (s.window || s.datedOnly) {
@@ -28,8 +29,34 @@ FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& 
         return false;
       }
     }
-    return !filter || frustaOverlap(viewFrustum, sceneFrustum(cam, bounds));
+    return true;
   };
+  auto keep = [&](int i) {
+    return keepMeta(i) && (!filter || frustaOverlap(viewFrustum, sceneFrustum(scene.photos[size_t(i)].camera, bounds)));
+  };
+  if (s.selection == Selection::Region) {
+    // Each candidate carries f(d_i); the pixel's K+1-th is the shader's (docs/design.md, step 5).
+    auto add = [&](int photo, double distance) {
+      plan.images.push_back({photo, distance, blendFalloff(distance, plan.sigma)});
+    };
+    const int count = std::max(s.candidates, 1);
+    if (bounds.empty()) {
+      // No geometry to sample: the nearest photographs (a panorama collection on its sphere).
+      for (const auto& c : index.nearest(view.center, size_t(count), keep)) add(c.photo, c.distance);
+      return plan;
+    }
+    std::optional<FrustumIndex> own;
+    if (!frusta || frusta->size() != scene.photos.size() || frusta->bounds().lo != bounds.lo ||
+        frusta->bounds().hi != bounds.hi) {
+      std::vector<Camera> cameras;
+      for (const auto& p : scene.photos) cameras.push_back(p.camera);
+      frusta = &own.emplace(cameras, bounds);
+    }
+    // A photograph is listed where its frustum contains a sample of the view: that is the frustum
+    // filter, finer, so its overlap test is not repeated.
+    for (const auto& c : regionCandidates(*frusta, view, count, s.regionGrid, keepMeta)) add(c.photo, c.distance);
+    return plan;
+  }
   const auto cands = index.nearest(view.center, size_t(std::max(s.k, 0)) + 1, keep);
   std::vector<double> d;
   for (const auto& c : cands) d.push_back(c.distance);

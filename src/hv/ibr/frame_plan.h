@@ -5,6 +5,7 @@
 
 #include "hv/camera/camera.h"
 #include "hv/camera/frustum.h"
+#include "hv/ibr/region_selection.h"
 #include "hv/ibr/selection.h"
 #include "hv/scene/scene.h"
 #include "hv/util/dates.h"
@@ -20,8 +21,27 @@ namespace hv::ibr {
 
 enum class BlendMethod { Blend, Nearest };
 
+// How the photographs that texture a frame are chosen (docs/design.md, steps 1 and 5).
+enum class Selection {
+  // Per region (opt-in, see docs/evaluation.md for why it is not yet the default): up to
+  // `candidates` photographs, so that every region of the view has its own
+  // nearest ones (ibr/region_selection.h), sorted by distance to the view centre; each pixel blends
+  // the first K of them that pass its tests, with weights f(d_i) - f(d_K+1) where d_K+1 is the
+  // distance of the K+1-th that passes at that pixel (Buehler et al. 2001's per-pixel best k with
+  // Brédif 2013's weights). SelectedImage::weight then holds f(d_i).
+  Region,
+  // The papers' (Brédif 2013 eq. 1-2), the default: the K nearest to the view centre for the whole
+  // frame, one weight f(d_i) - f(d_K+1) each.
+  Global,
+};
+
 struct BlendSettings {
-  int k = 8;                  // images blended
+  int k = 8;  // images blended at one pixel (at most)
+  Selection selection = Selection::Global;
+  // Region: how many photographs a frame may make resident and pass to the shader (also capped by
+  // the image slots). Global ignores it.
+  int candidates = 24;
+  RegionGrid regionGrid;      // region: how finely the view is sampled for candidates
   double sigma = -1.0;        // f(d) = 1/(sigma^2 + d^2); <= 0: the scene's camera spacing
   BlendMethod method = BlendMethod::Blend;
   bool occlusion = true;      // depth-map (shadow) test
@@ -45,15 +65,19 @@ struct SelectedImage {
 
 struct FramePlan {
   Camera view;                          // world frame
-  std::vector<SelectedImage> images;    // the K nearest, ascending distance
-  double nextDistance = -1.0;           // d_{K+1}; < 0 when there were K or fewer candidates
+  // Ascending distance. Global: the K nearest, weight f(d_i) - f(d_K+1). Region: the candidates,
+  // weight f(d_i) (the shader subtracts each pixel's own f(d_K+1)).
+  std::vector<SelectedImage> images;
+  double nextDistance = -1.0;  // global: d_{K+1}; < 0 when there were K or fewer candidates (region: -1)
   double sigma = 1.0;
   BlendSettings settings;
 };
 
 // `bounds` clips the view frustum for the frustum filter (usually the scene's geometry bounds).
+// Region selection uses `frusta` (built over the same bounds from the scene's cameras; one is
+// built for the call when it is null); without geometry bounds it takes the `candidates` nearest.
 FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& settings,
-                    const Aabb& bounds);
+                    const Aabb& bounds, const FrustumIndex* frusta = nullptr);
 
 // Where a photograph sits in the image texture array.
 struct SliceLayout {
@@ -66,7 +90,7 @@ struct SliceLayout {
 //   t0..t2 : rows of M = K R (xyz), C_render.x / .y / .z (w)
 //   t3     : distortion centre (xy), c3, c5 (hv::LensDistortion)
 //   t4     : c7, r2max (< 0: no distortion), width, height
-//   t5     : uvScale (xy), slice, weight
+//   t5     : uvScale (xy), slice, weight (region selection: f(d_i), see Selection)
 //   t6     : depth rect: pxMin (xy), 1/(pxMax - pxMin) (zw)
 //   t7     : near, far, bias (absolute, scene units), bias (relative to depth)
 //   t8     : the photograph's date interval (days since 1970-01-01, hv/util/dates.h; +-kOpenDay when

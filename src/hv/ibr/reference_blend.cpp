@@ -21,10 +21,12 @@ std::optional<ImageHit> projectIntoImage(const ImageParams& im, const glm::dvec3
 }
 
 BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& images, BlendMethod method,
-                           const TextureLookup& texture, const VisibilityTest& visible) {
+                           const TextureLookup& texture, const VisibilityTest& visible, Selection selection, int k) {
   BlendResult out;
   out.contribution.assign(images.size(), 0.0);
   glm::dvec3 sum(0.0);
+  // Region: the images that passed so far, with their texels (the first K blend, the K+1-th ends it).
+  std::vector<std::pair<size_t, glm::dvec4>> passed;
   for (size_t i = 0; i < images.size(); ++i) {
     const ImageParams& im = images[i];
     const auto hit = projectIntoImage(im, P);
@@ -40,11 +42,29 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
       out.contribution[i] = 1.0;
       return out;
     }
+    if (selection == Selection::Region) {
+      passed.emplace_back(i, texel);
+      if (int(passed.size()) > std::max(k, 1)) break;
+      continue;
+    }
     if (im.weight <= 0.0) continue;
     sum += im.weight * glm::dvec3(texel);  // premultiplied: rgb already times alpha
     out.alpha += im.weight * texel.a;
     out.contribution[i] = im.weight * texel.a;
     ++out.count;
+  }
+  if (selection == Selection::Region) {
+    const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
+    const double fNext = passed.size() > blended ? images[passed[blended].first].weight : 0.0;
+    for (size_t j = 0; j < blended; ++j) {
+      const auto& [i, texel] = passed[j];
+      const double w = images[i].weight - fNext;
+      if (w <= 0.0) continue;
+      sum += w * glm::dvec3(texel);
+      out.alpha += w * texel.a;
+      out.contribution[i] = w * texel.a;
+      ++out.count;
+    }
   }
   if (out.alpha > 0.0) out.color = sum / out.alpha;
   return out;

@@ -35,8 +35,14 @@ struct ImageHit {
 };
 std::optional<ImageHit> projectIntoImage(const ImageParams& image, const glm::dvec3& pointRender);
 
+// `images` in ascending distance to the view. Global selection: each image's weight is its w_i.
+// Region selection (Buehler et al. 2001's per-pixel best k, Brédif 2013's weights): each image's
+// weight is f(d_i); the first `k` images that pass every test (projection, visibility, mask
+// alpha > 0) contribute w_i = f(d_i) - f(d_K+1), d_K+1 the distance of the K+1-th that passes at
+// this point (f = 0 when none does). Nearest: the first that passes, either way.
 BlendResult referenceBlend(const glm::dvec3& pointRender, const std::vector<ImageParams>& images, BlendMethod method,
-                           const TextureLookup& texture, const VisibilityTest& visible);
+                           const TextureLookup& texture, const VisibilityTest& visible,
+                           Selection selection = Selection::Global, int k = 0);
 
 // Bilinear lookup with clamp-to-edge and texel centres at (i + 0.5) / size, as GL_LINEAR does,
 // of an RGBA8 image; returns values in [0, 1].

@@ -136,7 +136,7 @@ std::vector<std::string> FrameBuilder::excludedIds() const {
 ibr::BlendSettings FrameBuilder::frameBlendSettings() {
   ibr::BlendSettings blend = settings_.blend;
   const int slots = layout_.slots;
-  if (blend.k > slots) {
+  if (blend.k > slots && blend.selection == ibr::Selection::Global) {
     const std::string bound =
         naive() ? "MAX_TEXTURE_IMAGE_UNITS = " + std::to_string(limits_.maxTextureImageUnits) +
                       " with the naive binding: two units per image, " + std::to_string(limits_.shadingUnits) +
@@ -147,6 +147,9 @@ ibr::BlendSettings FrameBuilder::frameBlendSettings() {
                ", bounded by " + bound + "); using K = " + std::to_string(slots));
     blend.k = slots;
   }
+  // Region selection: the candidates are what is resident, so the slots bound them (and K stays
+  // the most images blended at one pixel).
+  if (blend.selection == ibr::Selection::Region) blend.candidates = std::clamp(blend.candidates, 1, slots);
   return blend;
 }
 
@@ -156,7 +159,13 @@ ibr::BlendSettings FrameBuilder::frameBlendSettings() {
 void FrameBuilder::planAndLoad(const Camera& view, ibr::BlendSettings& blend, FrameMode mode) {
   for (int attempt = 0;; ++attempt) {
     blend.exclude = excludedIds();
-    plan_ = ibr::planFrame(scene_, index_, view, blend, geometryBounds_);
+    if (blend.selection == ibr::Selection::Region && !geometryBounds_.empty() &&
+        (!frusta_ || frusta_->bounds().lo != geometryBounds_.lo || frusta_->bounds().hi != geometryBounds_.hi)) {
+      std::vector<Camera> cameras;
+      for (const auto& p : scene_.photos) cameras.push_back(p.camera);
+      frusta_ = std::make_unique<ibr::FrustumIndex>(cameras, geometryBounds_);
+    }
+    plan_ = ibr::planFrame(scene_, index_, view, blend, geometryBounds_, frusta_.get());
     if (makeResident(mode)) return;
     if (attempt > int(scene_.photos.size())) throw std::runtime_error("cannot make the selected images resident");
   }

@@ -98,6 +98,9 @@ class FrameBuilder {
   Backend& backend_;
   BackendLimits limits_;
   ibr::CameraIndex index_;
+  // Region selection: the photographs' frusta over geometryBounds_, built at the first region frame
+  // and again when the bounds change.
+  std::unique_ptr<ibr::FrustumIndex> frusta_;
   Aabb bounds_;          // geometry and camera centres: depth ranges
   Aabb geometryBounds_;  // geometry only: the frustum filter
   Aabb inlierBounds_;    // robustExtent (hv/scene/robust_extent.h): what the two boxes above may cover

@@ -241,6 +241,7 @@ TEST_F(FrameBuilderTest, DebugViewAndBlendSettingsRedrawNothing) {
 
 TEST_F(FrameBuilderTest, DepthMapDebugViewLoadsAndDrawsItsPhotographOutsideTheFrame) {
   settings_.blend.k = 3;
+  settings_.blend.selection = ibr::Selection::Global;  // the frame's images: the three nearest
   FrameBuilder builder(scene_, settings_, diag_, backend_);
   const int farthest = byDistance().back();
   settings_.debug.view = DebugView::DepthMap;
@@ -258,6 +259,7 @@ TEST_F(FrameBuilderTest, DepthMapDebugViewLoadsAndDrawsItsPhotographOutsideTheFr
 
 TEST_F(FrameBuilderTest, KBeyondTheSlotsIsCappedAndSaid) {
   settings_.maxSlices = 4;
+  settings_.blend.selection = ibr::Selection::Global;
   FrameBuilder builder(scene_, settings_, diag_, backend_);
   EXPECT_EQ(backend_.layout().slots, 4);
   const Frame f = builder.build(view(), FrameMode::Batch, false);
@@ -265,6 +267,20 @@ TEST_F(FrameBuilderTest, KBeyondTheSlotsIsCappedAndSaid) {
   EXPECT_EQ(f.plan.images.size(), 4u);
   ASSERT_FALSE(diag_.warnings.empty());
   EXPECT_NE(diag_.warnings.front().find("exceeds the image slots available (4"), std::string::npos);
+}
+
+TEST_F(FrameBuilderTest, RegionCandidatesAreCappedByTheSlotsAndKKeepsItsMeaning) {
+  settings_.maxSlices = 4;
+  settings_.blend.selection = ibr::Selection::Region;
+  settings_.blend.candidates = 24;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(f.blend.candidates, 4);
+  EXPECT_EQ(f.blend.k, kPhotos);  // the most images blended at one pixel: not a residency bound
+  EXPECT_EQ(f.plan.images.size(), 4u);
+  EXPECT_EQ(backend_.uploads.size(), 4u);
+  for (size_t i = 1; i < f.plan.images.size(); ++i) EXPECT_LE(f.plan.images[i - 1].distance, f.plan.images[i].distance);
+  EXPECT_TRUE(diag_.warnings.empty());
 }
 
 TEST_F(FrameBuilderTest, NaiveBindingSlotsFollowTheFreeTextureUnits) {

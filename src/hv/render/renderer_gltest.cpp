@@ -43,6 +43,116 @@ class RendererGlTest : public ::testing::Test {
     s.photos.push_back(p);
   }
 
+  // Renders `view` and compares it with hv::ibr::referenceBlend at sampled pixels (visibility by
+  // ray casting). Returns how many compared pixels blend an image that is not among the K nearest
+  // candidates (another failed a test there), in region selection.
+  int compareWithReference(const Scene& scene, const RenderSettings& settings, const Camera& view,
+                           size_t expectedImages) {
+    Diagnostics diag;
+    Renderer renderer(scene, settings, diag);
+    const RenderOutput out = renderer.render(view);
+    EXPECT_TRUE(diag.ok());
+    const auto& params = renderer.lastImageParams();
+    EXPECT_EQ(params.size(), expectedImages);
+    if (params.size() != expectedImages) return 0;
+    // The plan's weights: f(d_i) in region selection, and eq. 2 with no K+1-th candidate in global.
+    const bool region = settings.blend.selection == ibr::Selection::Region;
+    if (region || renderer.lastPlan().nextDistance < 0.0)
+      for (const auto& im : renderer.lastPlan().images)
+        EXPECT_NEAR(im.weight, 1.0 / (25.0 + im.distance * im.distance), 1e-12);
+
+    // CPU side: the same slices, visibility by ray casting (independent of the GL depth maps).
+    Mesh all = scene.terrain;
+    all.append(scene.buildings);
+    RayCaster caster(all);
+    std::vector<Image8> slices;
+    for (const auto& p : scene.photos) {
+      slices.push_back(ibr::makeSliceImage(p.camera, readImage(p.imagePath), {}, renderer.sliceSize(), p.camera.id));
+    }
+    ibr::TextureLookup tex = [&](int slice, glm::dvec2 uv) {
+      for (const auto& p : params)
+        if (p.layout.slice == slice) return ibr::sampleBilinear(slices[size_t(p.photo)], uv);
+      ADD_FAILURE() << "unknown slice";
+      return glm::dvec4(0.0);
+    };
+    // A point's visibility from image i is "robust" when the ray casts at +-2 image pixels around its
+    // projection agree; pixels near an occlusion edge (where a 512^2 depth map and an exact ray cast
+    // may legitimately differ) are not compared.
+    bool robust = true;
+    ibr::VisibilityTest visible = [&](size_t i, const glm::dvec3& Pr, double) {
+      const Camera& cam = params[i].camera;
+      const glm::dvec3 P = Pr + scene.origin;
+      auto seen = [&](const glm::dvec3& target) {
+        const glm::dvec3 dir = target - cam.center;
+        const double dist = glm::length(dir);
+        const auto hit = caster.intersect(cam.center, dir, 0.0, dist * 2.0);
+        return hit && hit->t > dist - 0.02 - 1e-3 * dist;
+      };
+      const bool v = seen(P);
+      // At grazing incidence a depth map's texel spans a long stretch of depth, so any shadow map
+      // (with a bias of a few texels) self-shadows there while the exact ray cast does not:
+      // compare only where the photograph sees the surface at more than 15 degrees.
+      const auto direct = caster.intersect(cam.center, P - cam.center, 0.0, 1e9);
+      if (direct && std::abs(glm::dot(direct->normal, glm::normalize(P - cam.center))) < 0.26) robust = false;
+      const Projection p = cam.project(P);
+      for (glm::dvec2 off : {glm::dvec2(2, 0), glm::dvec2(-2, 0), glm::dvec2(0, 2), glm::dvec2(0, -2)}) {
+        const glm::dvec3 dir = cam.rayDirection(p.pxIdeal + off);
+        const auto hit = caster.intersect(cam.center, dir, 0.0, 1e9);
+        if (!hit) continue;
+        if (seen(hit->position) != true || (glm::length(hit->position - P) > 1.0) != false) {
+          // The neighbour ray lands on another surface: occlusion edge nearby.
+          if (glm::dot(hit->normal, caster.intersect(cam.center, P - cam.center, 0.0, 1e9)->normal) < 0.99)
+            robust = false;
+        }
+      }
+      return v;
+    };
+
+    int compared = 0, replaced = 0;
+    double maxDiff = 0.0;
+    for (int y = 4; y < view.height; y += 7) {
+      for (int x = 4; x < view.width; x += 7) {
+        const glm::dvec2 px(x + 0.5, y + 0.5);
+        const auto hit = caster.intersect(view.center, view.rayDirection(px), 0.0, 1e9);
+        if (!hit) continue;
+        // Skip depth edges in the view: all four neighbours must hit the same plane.
+        bool flat = true;
+        for (glm::dvec2 off : {glm::dvec2(1.5, 0), glm::dvec2(-1.5, 0), glm::dvec2(0, 1.5), glm::dvec2(0, -1.5)}) {
+          const auto h2 = caster.intersect(view.center, view.rayDirection(px + off), 0.0, 1e9);
+          if (!h2 || glm::dot(h2->normal, hit->normal) < 0.999 ||
+              std::abs(glm::dot(h2->position - hit->position, hit->normal)) > 1e-3)
+            flat = false;
+        }
+        if (!flat) continue;
+        robust = true;
+        const ibr::BlendResult ref = ibr::referenceBlend(hit->position - scene.origin, params, ibr::BlendMethod::Blend,
+                                                         tex, visible, settings.blend.selection, settings.blend.k);
+        if (!robust) continue;
+        const std::uint8_t* g = out.rgba.px(x, y);
+        EXPECT_EQ(g[3] > 0, ref.covered()) << "coverage differs at " << x << "," << y;
+        if (!ref.covered() || g[3] == 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double diff = std::abs(g[c] / 255.0 - ref.color[c]);
+          if (diff > 4.0 / 255.0)
+            ADD_FAILURE() << "pixel " << x << "," << y << " channel " << c << ": GL " << int(g[c]) << " vs CPU "
+                          << ref.color[c] * 255.0 << " (CPU count " << ref.count << ")";
+          maxDiff = std::max(maxDiff, diff);
+        }
+        ++compared;
+        for (size_t i = size_t(settings.blend.k); region && i < params.size(); ++i)
+          if (ref.contribution[i] > 0.0) {
+            ++replaced;
+            break;
+          }
+      }
+    }
+    // Tolerance: llvmpipe filters RGBA8 with 8-bit interpolation weights (up to ~1/255 per lerp,
+    // two lerps), the shader projects in float, and the output is rounded to 8 bits.
+    EXPECT_GT(compared, 100);
+    EXPECT_LE(maxDiff, 4.0 / 255.0) << "over " << compared << " pixels";
+    return replaced;
+  }
+
   std::string dir_;
 };
 
@@ -79,105 +189,45 @@ TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
   addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
            testing::patternImage(120, 120, 3));
 
-  Diagnostics diag;
   RenderSettings settings;
   settings.blend.k = 3;
   settings.blend.sigma = 5.0;
   settings.depthSize = 512;
-  Renderer renderer(scene, settings, diag);
   const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
-  const RenderOutput out = renderer.render(view);
-  ASSERT_TRUE(diag.ok());
-  const auto& params = renderer.lastImageParams();
-  ASSERT_EQ(params.size(), 3u);
-  // The plan's weights follow eq. 2 with no 4th candidate: w_i = f(d_i).
-  for (const auto& im : renderer.lastPlan().images)
-    EXPECT_NEAR(im.weight, 1.0 / (25.0 + im.distance * im.distance), 1e-12);
-
-  // CPU side: the same slices, visibility by ray casting (independent of the GL depth maps).
-  Mesh all = scene.terrain;
-  all.append(scene.buildings);
-  RayCaster caster(all);
-  std::vector<Image8> slices;
-  for (const auto& p : scene.photos) {
-    slices.push_back(ibr::makeSliceImage(p.camera, readImage(p.imagePath), {}, renderer.sliceSize(), p.camera.id));
+  // Global: the papers' weights; region with K = 3 of 3 candidates: the same picture.
+  for (ibr::Selection selection : {ibr::Selection::Global, ibr::Selection::Region}) {
+    settings.blend.selection = selection;
+    compareWithReference(scene, settings, view, 3);
   }
-  std::vector<int> sliceOfParam;
-  ibr::TextureLookup tex = [&](int slice, glm::dvec2 uv) {
-    for (const auto& p : params)
-      if (p.layout.slice == slice) return ibr::sampleBilinear(slices[size_t(p.photo)], uv);
-    ADD_FAILURE() << "unknown slice";
-    return glm::dvec4(0.0);
-  };
-  // A point's visibility from image i is "robust" when the ray casts at +-2 image pixels around its
-  // projection agree; pixels near an occlusion edge (where a 512^2 depth map and an exact ray cast
-  // may legitimately differ) are not compared.
-  bool robust = true;
-  ibr::VisibilityTest visible = [&](size_t i, const glm::dvec3& Pr, double) {
-    const Camera& cam = params[i].camera;
-    const glm::dvec3 P = Pr + scene.origin;
-    auto seen = [&](const glm::dvec3& target) {
-      const glm::dvec3 dir = target - cam.center;
-      const double dist = glm::length(dir);
-      const auto hit = caster.intersect(cam.center, dir, 0.0, dist * 2.0);
-      return hit && hit->t > dist - 0.02 - 1e-3 * dist;
-    };
-    const bool v = seen(P);
-    // At grazing incidence a depth map's texel spans a long stretch of depth, so any shadow map
-    // (with a bias of a few texels) self-shadows there while the exact ray cast does not:
-    // compare only where the photograph sees the surface at more than 15 degrees.
-    const auto direct = caster.intersect(cam.center, P - cam.center, 0.0, 1e9);
-    if (direct && std::abs(glm::dot(direct->normal, glm::normalize(P - cam.center))) < 0.26) robust = false;
-    const Projection p = cam.project(P);
-    for (glm::dvec2 off : {glm::dvec2(2, 0), glm::dvec2(-2, 0), glm::dvec2(0, 2), glm::dvec2(0, -2)}) {
-      const glm::dvec3 dir = cam.rayDirection(p.pxIdeal + off);
-      const auto hit = caster.intersect(cam.center, dir, 0.0, 1e9);
-      if (!hit) continue;
-      if (seen(hit->position) != true || (glm::length(hit->position - P) > 1.0) != false) {
-        // The neighbour ray lands on another surface: occlusion edge nearby.
-        if (glm::dot(hit->normal, caster.intersect(cam.center, P - cam.center, 0.0, 1e9)->normal) < 0.99) robust = false;
-      }
-    }
-    return v;
-  };
+}
 
-  int compared = 0;
-  double maxDiff = 0.0;
-  for (int y = 4; y < view.height; y += 7) {
-    for (int x = 4; x < view.width; x += 7) {
-      const glm::dvec2 px(x + 0.5, y + 0.5);
-      const auto hit = caster.intersect(view.center, view.rayDirection(px), 0.0, 1e9);
-      if (!hit) continue;
-      // Skip depth edges in the view: all four neighbours must hit the same plane.
-      bool flat = true;
-      for (glm::dvec2 off : {glm::dvec2(1.5, 0), glm::dvec2(-1.5, 0), glm::dvec2(0, 1.5), glm::dvec2(0, -1.5)}) {
-        const auto h2 = caster.intersect(view.center, view.rayDirection(px + off), 0.0, 1e9);
-        if (!h2 || glm::dot(h2->normal, hit->normal) < 0.999 ||
-            std::abs(glm::dot(h2->position - hit->position, hit->normal)) > 1e-3)
-          flat = false;
-      }
-      if (!flat) continue;
-      robust = true;
-      const ibr::BlendResult ref =
-          ibr::referenceBlend(hit->position - scene.origin, params, ibr::BlendMethod::Blend, tex, visible);
-      if (!robust) continue;
-      const std::uint8_t* g = out.rgba.px(x, y);
-      EXPECT_EQ(g[3] > 0, ref.covered()) << "coverage differs at " << x << "," << y;
-      if (!ref.covered() || g[3] == 0) continue;
-      for (int c = 0; c < 3; ++c) {
-        const double diff = std::abs(g[c] / 255.0 - ref.color[c]);
-        if (diff > 4.0 / 255.0)
-          ADD_FAILURE() << "pixel " << x << "," << y << " channel " << c << ": GL " << int(g[c]) << " vs CPU "
-                        << ref.color[c] * 255.0 << " (CPU count " << ref.count << ")";
-        maxDiff = std::max(maxDiff, diff);
-      }
-      ++compared;
-    }
-  }
-  // Tolerance: llvmpipe filters RGBA8 with 8-bit interpolation weights (up to ~1/255 per lerp,
-  // two lerps), the shader projects in float, and the output is rounded to 8 bits.
-  EXPECT_GT(compared, 100);
-  EXPECT_LE(maxDiff, 4.0 / 255.0) << "over " << compared << " pixels";
+// Region selection where it differs from the global one: five photographs, K = 2, so that where
+// the near building hides some of them from the far façade, others take their place per pixel.
+TEST_F(RendererGlTest, RegionSelectionMatchesCpuReferenceAtSampledPixels) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
+           testing::patternImage(160, 120, 1));
+  addPhoto(scene, testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150),
+           testing::patternImage(200, 150, 2));
+  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
+           testing::patternImage(120, 120, 3));
+  addPhoto(scene, testing::lookAt("d", o + glm::dvec3(-14, -4, 2.5), o + glm::dvec3(0, 32, 9), 160, 120, 110),
+           testing::patternImage(160, 120, 4));
+  addPhoto(scene, testing::lookAt("e", o + glm::dvec3(0, -20, 4), o + glm::dvec3(0, 32, 9), 160, 120, 120),
+           testing::patternImage(160, 120, 5));
+  RenderSettings settings;
+  settings.blend.k = 2;
+  settings.blend.sigma = 5.0;
+  settings.depthSize = 512;
+  settings.blend.selection = ibr::Selection::Region;
+  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const int replaced = compareWithReference(scene, settings, view, 5);
+  // Pixels where a nearer photograph fails a test and a farther one is blended in its place.
+  EXPECT_GT(replaced, 20);
+  // With tile culling off the loop visits every candidate in the same order: the same picture.
+  settings.tileCulling = false;
+  compareWithReference(scene, settings, view, 5);
 }
 
 TEST_F(RendererGlTest, OccludedFacadeGetsNoPixelsFromThePhotograph) {

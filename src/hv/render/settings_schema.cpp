@@ -158,8 +158,19 @@ std::vector<Setting> makeSchema() {
                     resources = "Resources";
   std::vector<Entry> t;
   // Brédif 2013 eq. 1-2: the K nearest cameras, weights f(d_i) - f(d_K+1), f(d) = 1/(sigma^2 + d^2).
-  t.push_back(field("k", blend, "photographs blended per pixel (the K nearest cameras)",
+  t.push_back(field("k", blend, "photographs blended per pixel (the K nearest cameras that see it; with selection "
+                    "global, the K nearest to the view)",
                     [](auto& s) -> auto& { return s.blend.k; }).atLeast(1).slider(1, 32));
+  // Buehler et al. 2001 (ULR): the best k per pixel, with Brédif 2013's weights.
+  t.push_back(choice("selection", blend, "region: every part of the view is textured by its own nearest photographs "
+                     "(per pixel, the K nearest of the frame's candidates that pass the tests, weighted against the "
+                     "K+1-th there); global: the papers' K nearest to the view for the whole frame (default: on "
+                     "street views it is still 0.06 dB better, docs/evaluation.md)",
+                     {"region", "global"}, [](auto& s) -> auto& { return s.blend.selection; }));
+  t.push_back(field("candidates", blend, "selection region: photographs a frame may make resident and pass to the "
+                    "shader (also capped by the image slots); --k keeps its meaning, the most images blended at one "
+                    "pixel, so K = 1 from a photograph's own camera reproduces it",
+                    [](auto& s) -> auto& { return s.blend.candidates; }).atLeast(1).slider(1, 128));
   t.push_back(field("sigma", blend, "sigma of the weight f(d) = 1/(sigma^2 + d^2); auto: the median spacing of the "
                     "camera centres", [](auto& s) -> auto& { return s.blend.sigma; })
                   .unit("scene units").above(0).atMost(1e7).slider(0.01, 100, true).autoDefault());

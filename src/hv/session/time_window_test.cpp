@@ -47,6 +47,7 @@ class TimeWindowPlan : public ::testing::Test {
   std::vector<std::string> selected(const std::string& from, const std::string& to, bool datedOnly,
                                     int k = 8) {
     ibr::BlendSettings s;
+    s.selection = ibr::Selection::Global;  // the K nearest (the window filters any selection)
     s.k = k;
     s.sigma = 1.0;
     s.frustumFilter = false;

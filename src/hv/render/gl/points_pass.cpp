@@ -6,6 +6,8 @@
 #include "hv/gpu/textures.h"
 #include "hv/ibr/sprite_homography.h"
 
+#include <algorithm>
+
 namespace hv::render::gl {
 
 // Draws `pass`'s sprites with `program` into a target of `size` texels covering `fr`. The caller
@@ -105,6 +107,8 @@ void GlBackend::viewPointsPass(const Frame& f) {
   glUniform1i(p.validityWidth, validityWidth_);
   glUniform1i(p.imageCount, int(f.params.size()));
   glUniform1i(p.method, f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+  glUniform1i(p.region, f.blend.selection == ibr::Selection::Region ? 1 : 0);
+  glUniform1i(p.blendK, std::max(f.blend.k, 1));
   glUniform1i(p.occlusion, f.blend.occlusion ? 1 : 0);
   glUniform1i(p.epsilonTest, vp.epsilonTest ? 1 : 0);
   glUniform1f(p.epsilon, float(vp.epsilon));

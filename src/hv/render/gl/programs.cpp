@@ -105,6 +105,8 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   viewDirFromPix = u.required("u_viewDirFromPix");
   imageCount = u.required("u_imageCount");
   method = u.required("u_method");
+  region = u.required("u_region");
+  blendK = u.required("u_blendK");
   occlusion = u.required("u_occlusion");
   debugImage = u.required("u_debugImage");
   background = u.required("u_background");
@@ -152,6 +154,8 @@ PointProgram::PointProgram(const ProgramSource& src, const std::vector<std::stri
   pointParams = u.required("u_pointParams");
   imageCount = u.required("u_imageCount");
   method = u.required("u_method");
+  region = u.required("u_region");
+  blendK = u.required("u_blendK");
   occlusion = u.required("u_occlusion");
   epsilonTest = u.required("u_epsilonTest");
   epsilon = u.required("u_epsilon");

@@ -48,7 +48,7 @@ struct ShadeProgram {
         validity = -1, validityWidth = -1, pointColor = -1, points = -1, meshPushBack = -1, culling = -1,
         tileSize = -1, tilesX = -1, viewRectMin = -1, viewRectInvSize = -1, viewDepthSize = -1, viewNear = -1,
         viewFar = -1, sphereRadius = -1, viewCenter = -1, viewDirFromPix = -1, imageCount = -1, method = -1,
-        occlusion = -1, debugImage = -1, background = -1, mode = -1;
+        region = -1, blendK = -1, occlusion = -1, debugImage = -1, background = -1, mode = -1;
   // shaders/untextured.glsl: where no photograph contributes.
   GLint shading = -1, sky = -1, up = -1, sunDir = -1, albedo = -1, skyLight = -1, groundLight = -1, sunLight = -1,
         horizon = -1, zenith = -1;
@@ -74,8 +74,8 @@ struct PointProgram {
         depthOffset = -1, classify = -1, dropTransient = -1, keptClasses = -1, radius = -1;
   // The colour variants.
   GLint images = -1, depthMaps = -1, params = -1, viewDepth = -1, pointParams = -1, imageCount = -1, method = -1,
-        occlusion = -1, epsilonTest = -1, epsilon = -1, eyeDome = -1, edlStrength = -1, edlRadius = -1,
-        depthTolerance = -1, viewBuilding = -1, validity = -1, validityWidth = -1;
+        region = -1, blendK = -1, occlusion = -1, epsilonTest = -1, epsilon = -1, eyeDome = -1, edlStrength = -1,
+        edlRadius = -1, depthTolerance = -1, viewBuilding = -1, validity = -1, validityWidth = -1;
   PointProgram() = default;
   explicit PointProgram(const ProgramSource& src, const std::vector<std::string>& extraDefines = {});
 };

@@ -7,6 +7,7 @@
 #include "hv/gpu/textures.h"
 #include "hv/render/untextured.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace hv::render::gl {
@@ -100,6 +101,8 @@ void GlBackend::bindShadeInputs(const Frame& f) {
   gpu::uploadMat3(p.viewDirFromPix, glm::transpose(view.camFromWorld) * view.camFromPix());
   glUniform1i(p.imageCount, GLint(f.params.size()));
   glUniform1i(p.method, f.blend.method == ibr::BlendMethod::Nearest ? 1 : 0);
+  glUniform1i(p.region, f.blend.selection == ibr::Selection::Region ? 1 : 0);
+  glUniform1i(p.blendK, std::max(f.blend.k, 1));
   glUniform1i(p.occlusion, f.blend.occlusion ? 1 : 0);
   glUniform1i(p.debugImage, f.debug.image);
   glUniform3f(p.background, float(f.background.r), float(f.background.g), float(f.background.b));
