@@ -1,5 +1,8 @@
 #include "hv/io/native/terrain_raster.h"
 
+#include "hv/camera/camera.h"
+#include "hv/image/image.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/native/raster.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/scene/terrain_quadtree.h"
@@ -12,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iomanip>
 #include <random>
 
 namespace hv {
@@ -215,6 +219,49 @@ TEST_F(TerrainRasterTest, SparseHugeRasterLoadsAsTiles) {
   EXPECT_EQ(s.pyramidBuildSamples, std::uint64_t(size) * size);  // the one pass over the file
   // Everything else read at full resolution is a small part of the raster.
   EXPECT_LT(s.fullResolutionSamples, std::uint64_t(size) * size / 20);
+}
+
+// A DTM over the threshold with a photograph: the tiles are refined around its camera, coarse
+// far from it, with skirts; the buildings' base heights come from a level of the quadtree.
+TEST_F(TerrainRasterTest, LoaderSelectsTilesForThePhotographs) {
+  const int size = 2100;  // 4.4 M cells > 2048^2
+  std::mt19937 rng(2);
+  std::normal_distribution<float> noise(0.0f, 0.3f);
+  std::vector<float> bumps(size_t(size) * size);
+  for (float& b : bumps) b = noise(rng);
+  writeTiff(file("dtm.tif"), size, size, [&](int i, int j) { return smooth(i, j) + bumps[size_t(j) * size + i]; });
+  writePng(file("p.png"), Image8(40, 30, 3, 128));
+  const double x0 = 651000.0, y0 = 6862000.0 + size;
+  const glm::dvec3 centre(x0 + 100.5, y0 - 100.5, smooth(100, 100) + 3.0);
+  const Camera cam = lookAtCamera("p", centre, centre + glm::dvec3(50.0, -50.0, -3.0), 2000, 1500, 1500.0);
+  double r[9];
+  mat3ToRowMajor(cam.camFromWorld, r);
+  std::ofstream(file("cameras.json")) << "{\"cameras\": [{\"id\": \"p\", \"image\": \"p.png\", \"width\": 2000, "
+                                         "\"height\": 1500, \"center\": ["
+                                      << std::setprecision(17) << centre.x << ", " << centre.y << ", " << centre.z
+                                      << "], \"rotation\": [" << r[0] << ", " << r[1] << ", " << r[2] << ", " << r[3]
+                                      << ", " << r[4] << ", " << r[5] << ", " << r[6] << ", " << r[7] << ", " << r[8]
+                                      << "], \"focal\": [1500, 1500], \"principal\": [1000, 750]}]}";
+  std::ofstream(file("scene.json")) << R"({"crs": "EPSG:2154", "terrain": {"path": "dtm.tif"},
+                                          "cameras": {"path": "cameras.json"}})";
+  Diagnostics diag;
+  const Scene scene = loadScene(file("scene.json"), diag);
+  ASSERT_TRUE(diag.errors.empty()) << diag.errors[0];
+  ASSERT_EQ(scene.photos.size(), 1u);
+  ASSERT_TRUE(scene.terrainTiles);
+  const Scene::TerrainTilesInfo& info = scene.terrainTilesInfo;
+  EXPECT_EQ(info.finestLevel, info.maxLevel);
+  EXPECT_LE(info.coarsestLevel, info.maxLevel - 2);
+  EXPECT_LT(scene.terrain.triangles.size(), size_t(2) * (size - 1) * (size - 1) / 4);
+  // Under the camera, the terrain is the raster (full resolution): the mesh has the sample there.
+  const glm::dvec2 below(x0 + 100.5, y0 - 100.5);
+  bool found = false;
+  for (const glm::dvec3& p : scene.terrain.positions)
+    if (std::abs(p.x - below.x) < 1e-6 && std::abs(p.y - below.y) < 1e-6) {
+      found = true;
+      EXPECT_NEAR(p.z, smooth(100, 100) + bumps[size_t(100) * size + 100], 1e-4);
+    }
+  EXPECT_TRUE(found);
 }
 
 // A DTM at or below the threshold is meshed whole as before.
