@@ -41,7 +41,8 @@ struct Scene {
   Mesh terrain;
   // A DTM too large to mesh whole (hv/io/native/terrain_raster.h, kTerrainTilesAboveCells): its
   // quadtree of tiles, read on demand, for the views to select their own tiles; `terrain` then
-  // holds the tiles selected for the photographs' cameras. Null for a DTM meshed whole.
+  // holds the tiles selected for the photographs' cameras. Null for a DTM meshed whole. Shared by
+  // copies of the scene; not thread-safe (TerrainQuadtree::tile reads and caches).
   std::shared_ptr<TerrainQuadtree> terrainTiles;
   struct TerrainTilesInfo {
     std::size_t tiles = 0;  // in `terrain`
