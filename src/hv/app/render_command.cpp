@@ -96,6 +96,14 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   if (!b.empty()) std::cout << "extent     " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
   std::cout << "terrain    " << scene.terrain.positions.size() << " vertices, " << scene.terrain.triangles.size()
             << " triangles\n";
+  if (scene.terrainTiles) {
+    const Scene::TerrainTilesInfo& t = scene.terrainTilesInfo;
+    std::cout << "  multi-resolution: " << t.tiles << " tiles of " << t.tileCells << " x " << t.tileCells
+              << " cells, levels " << t.coarsestLevel << ".." << t.finestLevel << " of 0.." << t.maxLevel
+              << " (screen-space error <= " << t.tolerancePx << " px from the photographs' cameras, budget "
+              << t.triangleBudget << " triangles" << (t.budgetLimited ? ", reached" : "") << "); levels read from "
+              << t.reads << "\n";
+  }
   std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
   std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()
             << " triangles\n";

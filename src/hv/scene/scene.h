@@ -9,10 +9,14 @@
 #include "hv/scene/mesh.h"
 #include "hv/util/dates.h"
 
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace hv {
+
+class TerrainQuadtree;  // hv/scene/terrain_quadtree.h
 
 struct Photo {
   Camera camera;
@@ -35,6 +39,19 @@ struct Scene {
   glm::dvec3 origin{0.0};  // render origin (world)
   glm::dvec3 up{0.0, 0.0, 1.0};
   Mesh terrain;
+  // A DTM too large to mesh whole (hv/io/native/terrain_raster.h, kTerrainTilesAboveCells): its
+  // quadtree of tiles, read on demand, for the views to select their own tiles; `terrain` then
+  // holds the tiles selected for the photographs' cameras. Null for a DTM meshed whole. Shared by
+  // copies of the scene; not thread-safe (TerrainQuadtree::tile reads and caches).
+  std::shared_ptr<TerrainQuadtree> terrainTiles;
+  struct TerrainTilesInfo {
+    std::size_t tiles = 0;  // in `terrain`
+    int coarsestLevel = 0, finestLevel = 0, maxLevel = 0, tileCells = 0;
+    double tolerancePx = 0.0;
+    std::size_t triangleBudget = 0;
+    bool budgetLimited = false;
+    std::string reads;  // where the levels are read from: "2 GDAL overviews", "a pyramid built in memory (7 levels)"
+  } terrainTilesInfo;
   Mesh buildings;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
   // scene.json "points" (empty: none), organised into chunks (hv/scene/chunks.h) at load, in the

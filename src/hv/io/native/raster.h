@@ -7,7 +7,9 @@
 #include "hv/util/diagnostics.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 namespace hv {
 
@@ -47,5 +49,18 @@ GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGe
 // the band's unit type ("m", "ft"); empty writes none.
 void writeGeoTiff(const std::string& path, const Heightfield& field, const std::string& crs,
                   const std::string& heightUnit = "");
+
+// Writes a single-band Float32 GeoTIFF of cols x rows cells of `cell` metres (north up, corner
+// of cell (0, 0) at originX, originY), tiled in blocks of 512 and DEFLATE-compressed, from
+// `height(i, j)` (NaN: no data, written as -9999 and declared so), block by block: never the
+// whole raster in memory. `sparse`: a block with no data is not written at all (GDAL's SPARSE_OK),
+// so a mostly empty raster of 30000 x 30000 cells is a few hundred KB. For tests and benchmarks
+// of large DTMs. Throws InputError naming the file on failure.
+void writeTiledGeoTiff(const std::string& path, int cols, int rows, double originX, double originY, double cell,
+                       const std::string& crs, const std::function<float(int, int)>& height, bool sparse);
+
+// Adds overviews to a raster file, as `gdaladdo -r <resampling> path <factors...>` does
+// (`resampling`: GDAL's names, "AVERAGE", "NEAREST", ...). Throws InputError naming the file.
+void addOverviews(const std::string& path, const std::vector<int>& factors, const std::string& resampling);
 
 }  // namespace hv

@@ -12,9 +12,11 @@
 #include "hv/io/native/micmac_cameras.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
+#include "hv/io/native/terrain_raster.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
 #include "hv/scene/robust_extent.h"
+#include "hv/scene/terrain_quadtree.h"
 #include "hv/util/log.h"
 #include "hv/util/input_file.h"
 
@@ -194,6 +196,46 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
   throw InputError(path + ": " + list + " (this version reads only the keys of docs/formats.md; the scene is not loaded)");
 }
 
+// The buildings' base heights on a DTM read as tiles: the finest level within
+// kTerrainPyramidCells samples, read whole (from the pyramid or an overview, never the full
+// resolution of a large raster).
+Heightfield buildingBaseHeights(const TerrainQuadtree& tree) {
+  const TerrainGrid& g = tree.grid();
+  int level = tree.maxLevel();
+  auto samples = [&](int l) {
+    const std::uint64_t s = std::uint64_t(tree.step(l));
+    return (std::uint64_t(g.cols - 1) / s + 1) * (std::uint64_t(g.rows - 1) / s + 1);
+  };
+  while (level > 0 && samples(level) > kTerrainPyramidCells) --level;
+  return tree.levelHeightfield(level);
+}
+
+// Scene::terrain from the quadtree: the tiles the photographs' cameras need (docs/design.md,
+// "Terrain tiles"), within the triangle budget, with their skirts.
+void meshTerrainTiles(Scene& scene) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TerrainQuadtree& tree = *scene.terrainTiles;
+  std::vector<Camera> cameras;
+  cameras.reserve(scene.photos.size());
+  for (const Photo& p : scene.photos) cameras.push_back(p.camera);
+  const TerrainSelection sel = tree.select(cameras, kTerrainTolerancePx, kTerrainTriangleBudget);
+  scene.terrain = tree.mesh(sel.nodes);
+  Scene::TerrainTilesInfo& info = scene.terrainTilesInfo;
+  info.tiles = sel.nodes.size();
+  info.coarsestLevel = sel.coarsestLevel;
+  info.finestLevel = sel.finestLevel;
+  info.maxLevel = tree.maxLevel();
+  info.tileCells = tree.tileCells();
+  info.tolerancePx = kTerrainTolerancePx;
+  info.triangleBudget = kTerrainTriangleBudget;
+  info.budgetLimited = sel.budgetLimited;
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log::debug("terrain: " + std::to_string(sel.nodes.size()) + " tiles, levels " + std::to_string(sel.coarsestLevel) +
+             ".." + std::to_string(sel.finestLevel) + " of 0.." + std::to_string(tree.maxLevel()) + ", " +
+             std::to_string(scene.terrain.triangles.size()) + " triangles, " + std::to_string(tree.loadedTiles()) +
+             " tiles read, " + std::to_string(s) + " s");
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path, Diagnostics& diag) {
@@ -228,15 +270,45 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   // Terrain, buildings, mesh and points: each from its own CRS (`<source>.crs`, else the file's)
   // into the scene frame (hv/io/georef.h); without a scene CRS, as they are.
   Heightfield dtm;
+  std::string terrainPath;
   if (doc.contains("terrain")) {
     try {
       const std::string p = sourcePath(doc, "terrain", dir, path);
-      GeoreferencedHeightfield read = readHeightfield(p, sourceGeoref(doc, "terrain", scene.crs, path), diag);
-      dtm = std::move(read.field);
-      scene.terrain = dtm.toMesh();
-      recordSource(scene, "terrain", read.sourceCrs);
-      log::debug("terrain: " + p + ": " + std::to_string(dtm.cols) + "x" + std::to_string(dtm.rows));
+      terrainPath = p;
+      const SourceGeoref georef = sourceGeoref(doc, "terrain", scene.crs, path);
+      const RasterSize size = rasterSize(p);
+      if (std::uint64_t(size.cols) * std::uint64_t(size.rows) > kTerrainTilesAboveCells) {
+        // Too large to mesh whole: a quadtree of tiles, meshed once the cameras are known (below).
+        std::string whyNot;
+        if (auto raster = TerrainRaster::open(p, georef, diag, whyNot)) {
+          scene.terrainTiles = std::make_shared<TerrainQuadtree>(raster, TerrainTileOptions{kTerrainTileCells});
+          if (scene.terrainTiles->tile(TerrainQuadtree::root()).bounds.empty()) {
+            scene.terrainTiles.reset();
+            throw InputError(inputMessage(p, "band 1", "every sample is no-data: no terrain to make"));
+          }
+          dtm = buildingBaseHeights(*scene.terrainTiles);
+          recordSource(scene, "terrain", raster->sourceCrs());
+          Scene::TerrainTilesInfo& info = scene.terrainTilesInfo;
+          info.reads = raster->pyramidLevels() ? "a pyramid of averages built in memory (" +
+                                                     std::to_string(raster->pyramidLevels()) + " levels)"
+                       : raster->gdalOverviews() ? std::to_string(raster->gdalOverviews()) + " GDAL overview(s)"
+                                                 : "the full resolution only";
+        } else {
+          diag.warn(inputMessage(p, "size",
+                                 std::to_string(size.cols) + " x " + std::to_string(size.rows) +
+                                     " cells, yet not read as tiles: " + whyNot + "; read whole instead"));
+        }
+      }
+      if (!scene.terrainTiles) {
+        GeoreferencedHeightfield read = readHeightfield(p, georef, diag);
+        dtm = std::move(read.field);
+        scene.terrain = dtm.toMesh();
+        recordSource(scene, "terrain", read.sourceCrs);
+      }
+      log::debug("terrain: " + p + ": " + std::to_string(size.cols) + "x" + std::to_string(size.rows) +
+                 (scene.terrainTiles ? " (tiles)" : ""));
     } catch (const InputError& e) {
+      scene.terrainTiles.reset();
       diag.error(std::string(e.what()) + " (terrain left out)");
     }
   }
@@ -352,6 +424,16 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");
+    }
+  }
+
+  if (scene.terrainTiles) {
+    try {
+      meshTerrainTiles(scene);
+    } catch (const InputError& e) {
+      scene.terrainTiles.reset();
+      scene.terrain = Mesh{};
+      diag.error(std::string(e.what()) + " (terrain left out)");
     }
   }
 

@@ -4,9 +4,18 @@
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
 
+#include <cstddef>
 #include <string>
 
 namespace hv {
+
+// A terrain raster over kTerrainTilesAboveCells (hv/io/native/terrain_raster.h) becomes a quadtree
+// of tiles of kTerrainTileCells cells; Scene::terrain holds the tiles whose screen-space error
+// from every photograph's camera is within kTerrainTolerancePx, refined largest error first
+// within kTerrainTriangleBudget (estimated: two a cell and two a skirt segment).
+constexpr int kTerrainTileCells = 64;
+constexpr double kTerrainTolerancePx = 2.0;
+constexpr std::size_t kTerrainTriangleBudget = 2'000'000;
 
 // Loads terrain, buildings and cameras. A broken source (missing file, unreadable raster, bad
 // camera) is reported in `diag` and left out; the rest loads. Throws InputError only when
