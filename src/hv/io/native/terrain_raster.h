@@ -25,7 +25,7 @@ namespace hv {
 
 // Above this many cells, `loadScene` makes the terrain from a quadtree of tiles (docs/formats.md,
 // Limits); at or below it, the whole raster is meshed at full resolution as before.
-constexpr std::uint64_t kTerrainTilesAboveCells = std::uint64_t(2048) * 2048;
+constexpr std::uint64_t kTerrainTilesAboveCells = std::uint64_t(1024) * 1024;
 // The most samples of the pyramid built in memory (its finest grid), and of any one window read.
 constexpr std::uint64_t kTerrainPyramidCells = std::uint64_t(2048) * 2048;
 

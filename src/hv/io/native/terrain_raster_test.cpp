@@ -71,7 +71,7 @@ float smooth(int i, int j) { return float(50.0 + 10.0 * std::sin(i / 70.0) * std
 // Without overviews and over kTerrainTilesAboveCells: the pyramid is built once, by strips, and a
 // level's samples are the same as the in-memory source's (averaging 2 x 2 blocks level by level).
 TEST_F(TerrainRasterTest, PyramidInMemoryWithoutOverviews) {
-  const int cols = 3000, rows = 2500;  // 7.5 M cells > 2048^2
+  const int cols = 3000, rows = 2500;  // 7.5 M cells > 1024^2
   writeTiff(file("dtm.tif"), cols, rows, smooth);
   Diagnostics diag;
   std::string whyNot;
