@@ -49,6 +49,8 @@ cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
 # LeakSanitizer on: a leak per input is a finding too (libFuzzer checks after each input).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# Leaks inside system libraries histoview cannot free (tools/lsan.supp: the GL driver, Assimp).
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tools/lsan.supp:print_suppressions=0}
 export HV_LOG=${HV_LOG:-error}
 
 found=()

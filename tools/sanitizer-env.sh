@@ -1,7 +1,7 @@
 # Sourced (not run) before running anything built in build-asan/ (tools/sanitize.sh, and the
 # sanitizer steps of tools/test.sh): the sanitizers' options and the GL driver preload below.
 #   source tools/sanitizer-env.sh [BUILD_DIR]      (default build-asan, relative to the repository)
-# LeakSanitizer is on; its suppressions (tools/lsan.supp) may only name the GL driver's libraries.
+# LeakSanitizer is on; its suppressions (tools/lsan.supp) may only name system libraries (the GL driver, Assimp).
 # UBSan stops at its first report, so that a finding fails the test instead of scrolling past.
 hv_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 hv_asan_dir=${1:-build-asan}
