@@ -170,6 +170,11 @@ TEST_F(TerrainRasterTest, NoDataAndAllNoData) {
 // loads as a multi-resolution terrain within bounded memory and time, where the whole raster (3.6
 // GB of samples) would have been decimated.
 TEST_F(TerrainRasterTest, SparseHugeRasterLoadsAsTiles) {
+#if defined(__SANITIZE_ADDRESS__)
+  // Its limits are about the optimised build: under AddressSanitizer at -O0 the same load takes
+  // over 3 minutes and the shadow memory alone passes the 1 GiB bound. The native test step runs it.
+  GTEST_SKIP() << "time and memory limits of the optimised build; not run under AddressSanitizer";
+#endif
   const int size = 30000;
   // A hill of 40 m over 1536 x 1536 cells centred on (9216, 12288) (heights in quarter metres, as
   // a DTM stored to the centimetre compresses), plus one isolated block far away.
