@@ -9,6 +9,8 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 
@@ -16,11 +18,21 @@ namespace hv {
 
 namespace {
 
-bool startsWithPlyMagic(const std::string& path) {
+// What Assimp may read with its PLY loader: a `.ply` name, or (its content detection) a line
+// starting with "ply", in any case, within the first 200 bytes.
+bool readAsPly(const std::string& path) {
+  auto lower = [](std::string t) {
+    for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  if (lower(std::filesystem::path(path).extension().string()) == ".ply") return true;
   std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  in.read(magic, 4);
-  return in.gcount() == 4 && std::string(magic, 3) == "ply" && (magic[3] == '\n' || magic[3] == '\r');
+  std::string head(200, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head = lower(head.substr(0, std::size_t(std::max<std::streamsize>(in.gcount(), 0))));
+  for (std::size_t at = head.find("ply"); at != std::string::npos; at = head.find("ply", at + 1))
+    if (at == 0 || head[at - 1] == '\n' || head[at - 1] == '\r') return true;
+  return false;
 }
 
 }  // namespace
@@ -28,10 +40,10 @@ bool startsWithPlyMagic(const std::string& path) {
 Mesh readMesh(const std::string& path) {
   requireRegularFile(path, "mesh");
   // Assimp 5.2's PLY loader loops forever on some malformed headers and leaks on others (found by
-  // fuzz_mesh, docs/testing.md): a PLY file is first read by histoview's own PLY parser
+  // fuzz_mesh, docs/testing.md): what Assimp would read as PLY is first read by histoview's own PLY parser
   // (io/native/ply_points.h, fuzzed on its own), which refuses a bad header or truncated data
   // with a message naming the element or property, before Assimp sees it.
-  if (startsWithPlyMagic(path)) {
+  if (readAsPly(path)) {
     const std::vector<std::uint8_t> bytes = readFileBytes(path);
     (void)parsePlyPoints(bytes.data(), bytes.size(), path);
   }
