@@ -55,20 +55,22 @@ TEST(SceneCameraSpacing, MatchesTheDefinition) {
   EXPECT_EQ(bruteSpacing(rig.photos), 1.0);
 }
 
-TEST(SceneCameraSpacing, HundredThousandCamerasUnderASecondThenCached) {
+TEST(SceneCameraSpacing, HundredThousandCamerasThenCached) {
   // 100k cameras 2 m apart on a grid (with a 100k-camera column of duplicates this was 84 s per
-  // frame: quadratic, and asked for every frame when --sigma is not given).
+  // frame: quadratic, and asked for every frame when --sigma is not given). No speed is asserted:
+  // a generous bound catches the quadratic case, and the cache is checked against the first call.
   Scene s;
   for (int i = 0; i < 100000; ++i)
     s.photos.push_back(photoAt("c" + std::to_string(i), {2.0 * (i % 317), 2.0 * (i / 317), 10.0}));
   auto t0 = std::chrono::steady_clock::now();
   EXPECT_DOUBLE_EQ(s.cameraSpacing(), 2.0);
-  EXPECT_LT(seconds(t0), 1.0);
+  const double first = seconds(t0);
+  EXPECT_LT(first, 30.0) << "quadratic in the number of cameras?";
   t0 = std::chrono::steady_clock::now();
   for (int frame = 0; frame < 100; ++frame) EXPECT_DOUBLE_EQ(s.cameraSpacing(), 2.0);
-  // 100 frames: the cached value, checked against a hash of the centres (~1 ms each; a loaded CI
-  // machine is several times slower, hence the margin: without the cache this took minutes).
-  EXPECT_LT(seconds(t0), 2.0);
+  // 100 frames: the cached value, checked against a hash of the centres, each call a small part of
+  // the first one (recomputing would cost 100 first calls).
+  EXPECT_LT(seconds(t0), 10.0 * first + 0.5);
   // A camera that moves (an edited scene) is noticed.
   for (Photo& p : s.photos) p.camera.center *= 3.0;
   EXPECT_DOUBLE_EQ(s.cameraSpacing(), 6.0);
@@ -85,7 +87,7 @@ TEST(SceneCameraSpacing, CoincidentCamerasStayFast) {
   s.photos.assign(100000, photoAt("same", {651000, 6862000, 35}));
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(s.cameraSpacing(), 1.0);
-  EXPECT_LT(seconds(t0), 2.0);  // quadratic before: every search visited every equal centre
+  EXPECT_LT(seconds(t0), 30.0);  // a guard, not a speed: quadratic, every search visited every equal centre (hours)
 }
 
 // A 1 km terrain grid (Lambert-93 sized coordinates) with cameras above it.
