@@ -90,17 +90,23 @@ class PlyParser {
  public:
   PlyParser(const std::uint8_t* data, std::size_t size, std::string name) : d_(data), n_(size), name_(std::move(name)) {}
 
-  PointCloud parse() {
+  // `wholeFile`: every element after the vertices is read too (and refused when malformed), as a
+  // mesh reader would read the faces.
+  PointCloud parse(bool wholeFile = false) {
     parseHeader();
     cloud_.sourcePath = name_;
+    bool vertices = false;
     for (const Element& e : elements_) {
-      if (e.name == "vertex") {
+      if (e.name == "vertex" && !vertices) {
         readVertices(e);
-        return std::move(cloud_);
+        vertices = true;
+        if (!wholeFile) return std::move(cloud_);
+        continue;
       }
       skipElement(e);
     }
-    fail("header", "expected a \"vertex\" element");
+    if (!vertices) fail("header", "expected a \"vertex\" element");
+    return std::move(cloud_);
   }
 
  private:
@@ -328,6 +334,10 @@ class PlyParser {
 };
 
 }  // namespace
+
+void validatePly(const std::uint8_t* data, std::size_t size, const std::string& name) {
+  (void)PlyParser(data, size, name).parse(true);
+}
 
 PointCloud parsePlyPoints(const std::uint8_t* data, std::size_t size, const std::string& name) {
   return PlyParser(data, size, name).parse();

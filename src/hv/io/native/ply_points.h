@@ -19,6 +19,10 @@ namespace hv {
 // header, a missing x/y/z, truncated data or non-finite coordinates; never reads out of bounds.
 PointCloud readPlyPoints(const std::string& path);
 PointCloud parsePlyPoints(const std::uint8_t* data, std::size_t size, const std::string& name);
+// Reads the whole file, every element after the vertices included (a mesh's faces and their
+// lists), and throws InputError as above at the first malformed value: the check a PLY mesh
+// passes before Assimp reads it (io/native/mesh_reader.h).
+void validatePly(const std::uint8_t* data, std::size_t size, const std::string& name);
 
 // Binary little-endian PLY: x y z as double (world coordinates keep their precision), then
 // whichever of nx ny nz (float), red green blue (uchar: the 16-bit value / 257, rounded),

@@ -41,11 +41,12 @@ Mesh readMesh(const std::string& path) {
   requireRegularFile(path, "mesh");
   // Assimp 5.2's PLY loader loops forever on some malformed headers and leaks on others (found by
   // fuzz_mesh, docs/testing.md): what Assimp would read as PLY is first read by histoview's own PLY parser
-  // (io/native/ply_points.h, fuzzed on its own), which refuses a bad header or truncated data
-  // with a message naming the element or property, before Assimp sees it.
+  // (io/native/ply_points.h, fuzzed on its own), which reads every element and refuses a bad
+  // header, a malformed face list or truncated data with a message naming the element, before
+  // Assimp sees it (Debian's Assimp aborts on an ai_assert in its triangulation otherwise).
   if (readAsPly(path)) {
     const std::vector<std::uint8_t> bytes = readFileBytes(path);
-    (void)parsePlyPoints(bytes.data(), bytes.size(), path);
+    validatePly(bytes.data(), bytes.size(), path);
   }
   Assimp::Importer importer;
   // Validate first (a face index past the vertices would otherwise be followed by the steps after
