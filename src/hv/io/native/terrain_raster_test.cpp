@@ -170,10 +170,13 @@ TEST_F(TerrainRasterTest, NoDataAndAllNoData) {
 // loads as a multi-resolution terrain within bounded memory and time, where the whole raster (3.6
 // GB of samples) would have been decimated.
 TEST_F(TerrainRasterTest, SparseHugeRasterLoadsAsTiles) {
+  // The time and memory bounds are about the optimised build: under AddressSanitizer at -O0 the
+  // same load takes over 3 minutes and the shadow memory alone passes 1 GiB, so there only the
+  // result is checked (the native test step checks the bounds).
 #if defined(__SANITIZE_ADDRESS__)
-  // Its limits are about the optimised build: under AddressSanitizer at -O0 the same load takes
-  // over 3 minutes and the shadow memory alone passes the 1 GiB bound. The native test step runs it.
-  GTEST_SKIP() << "time and memory limits of the optimised build; not run under AddressSanitizer";
+  constexpr bool kCheckBounds = false;
+#else
+  constexpr bool kCheckBounds = true;
 #endif
   const int size = 30000;
   // A hill of 40 m over 1536 x 1536 cells centred on (9216, 12288) (heights in quarter metres, as
@@ -193,9 +196,9 @@ TEST_F(TerrainRasterTest, SparseHugeRasterLoadsAsTiles) {
   Diagnostics diag;
   const Scene scene = loadScene(writeScene(file("big.tif")), diag);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(seconds, 180.0);
+  if (kCheckBounds) EXPECT_LT(seconds, 180.0);
   // The whole raster would be 3.6 GB of samples; the pyramid is 19 MB, the mesh about 100 MB.
-  if (peakReset) EXPECT_LT(peakMemoryKb(), 1024 * 1024) << "peak resident memory, KB";
+  if (kCheckBounds && peakReset) EXPECT_LT(peakMemoryKb(), 1024 * 1024) << "peak resident memory, KB";
   EXPECT_TRUE(diag.errors.empty()) << diag.errors[0];
   ASSERT_TRUE(scene.terrainTiles);
   EXPECT_FALSE(scene.terrain.empty());
