@@ -16,6 +16,7 @@ packages=(
   glslang-tools                                         # glslangValidator: GLSL ES 3.00 checked offline (shader_validate)
   libglfw3-dev libimgui-dev                             # the desktop viewer (histoview view): window, UI panel
   xvfb xauth                                            # the viewer's test runs it on a virtual X display
+  xdotool                                               # ... and taps keys in it (key events, not polling)
   glslang-tools                                         # glslangValidator: the shaders checked as GLSL ES 3.00
   python3                                               # the CLI, viewer and browser tests' helpers
 )

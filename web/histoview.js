@@ -163,10 +163,13 @@
     Promise.all(Array.from({ length: FETCHES_IN_FLIGHT }, worker)).then(() => { hv.fetched = true; });
 
     // The frame loop: input, then a progressive frame when something changed.
-    const keys = new Set();
+    // Keys as events: `keys` are down now, `tapped` went down since the last frame, so a tap
+    // shorter than a frame (SwiftShader frames are tens of milliseconds) still moves for a frame.
+    const keys = new Set(), tapped = new Set();
     let drag = null, look = [0, 0], last = performance.now(), lastErrors = 0;
     canvas.addEventListener('keydown', (e) => {
       keys.add(e.code);
+      if (!e.repeat) tapped.add(e.code);
       if (e.code === 'KeyN' || e.code === 'PageDown') viewer.stepPhoto(1);
       if (e.code === 'KeyP' || e.code === 'PageUp') viewer.stepPhoto(-1);
       if (e.code.startsWith('Arrow') || e.code === 'Space' || e.code.startsWith('Page')) e.preventDefault();
@@ -188,13 +191,14 @@
     }, { passive: false });
     $('speed').addEventListener('change', (e) => viewer.setSpeed(parseFloat(e.target.value) || 1));
 
-    const down = (...codes) => codes.some((c) => keys.has(c)) ? 1 : 0;
+    const down = (...codes) => codes.some((c) => keys.has(c) || tapped.has(c)) ? 1 : 0;
     function tick(now) {
       const dt = Math.min(0.1, (now - last) / 1000);
       last = now;
       viewer.move(down('KeyD', 'ArrowRight') - down('KeyA', 'ArrowLeft'), down('KeyW', 'ArrowUp') - down('KeyS', 'ArrowDown'),
                   down('KeyE') - down('KeyQ'), look[0], look[1], keys.has('ShiftLeft') || keys.has('ShiftRight'), dt);
       look = [0, 0];
+      tapped.clear();
       viewer.frame(W, H, false, false);
       const s = hv.status = JSON.parse(viewer.status());
       for (; lastErrors < s.errors.length; ++lastErrors) showError(s.errors[lastErrors]);

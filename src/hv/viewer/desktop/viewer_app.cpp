@@ -11,6 +11,7 @@
 #include "hv/scene/native/raycast.h"
 #include "hv/viewer/desktop/debug_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
+#include "hv/viewer/key_events.h"
 #include "hv/viewer/navigation.h"
 #include "hv/image/native/png_write.h"
 
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -82,6 +84,10 @@ class Viewer {
     session_ = app::openSession(o_.view, diag, [&] {
       auto w = std::make_unique<GlfwWindow>(size.x, size.y, "histoview", vsync_);
       window_ = w.get();
+      window_->setKeyHandler([this](int key, bool down) {
+        if (key < 0) return keys_.releaseAll();
+        keys_.event(key, down);
+      });
       return w;
     });
     for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
@@ -147,9 +153,8 @@ class Viewer {
     NavigationInput in;
     in.dt = dt;
     const ImGuiIO& io = ImGui::GetIO();
-    GLFWwindow* w = window_->handle();
     if (!io.WantCaptureKeyboard) {
-      auto down = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS ? 1.0 : 0.0; };
+      auto down = [&](int key) { return keys_.held(key) ? 1.0 : 0.0; };
       in.move.x = down(GLFW_KEY_D) + down(GLFW_KEY_RIGHT) - down(GLFW_KEY_A) - down(GLFW_KEY_LEFT);
       in.move.y = down(GLFW_KEY_W) + down(GLFW_KEY_UP) - down(GLFW_KEY_S) - down(GLFW_KEY_DOWN);
       in.move.z = down(GLFW_KEY_E) - down(GLFW_KEY_Q);
@@ -165,22 +170,23 @@ class Viewer {
   }
 
   void handleKeys() {
-    const ImGuiIO& io = ImGui::GetIO();
-    if (io.WantCaptureKeyboard) return;
-    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) window_->requestClose();
-    if (ImGui::IsKeyPressed(GLFW_KEY_TAB, false))
+    // Presses since the last frame, however short (key_events.h); none while a text field has
+    // the keyboard.
+    if (ImGui::GetIO().WantCaptureKeyboard) return;
+    if (keys_.pressed(GLFW_KEY_ESCAPE)) window_->requestClose();
+    if (keys_.pressed(GLFW_KEY_TAB))
       nav_->setMode(nav_->mode() == Mode::Fly ? Mode::Walk : Mode::Fly);
-    if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) showPanel_ = !showPanel_;
+    if (keys_.pressed(GLFW_KEY_H)) showPanel_ = !showPanel_;
     render::DebugSettings& debug = renderer_->settings().debug;
-    if (ImGui::IsKeyPressed(GLFW_KEY_C, false)) {
+    if (keys_.pressed(GLFW_KEY_C)) {
       debug.view = debug.view == render::DebugView::Counts ? render::DebugView::None : render::DebugView::Counts;
       settingsChanged_ = true;
     }
-    if (ImGui::IsKeyPressed(GLFW_KEY_F, false)) debug.frusta = !debug.frusta, settingsChanged_ = true;
-    if (ImGui::IsKeyPressed(GLFW_KEY_N, false) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_DOWN, false)) stepPhoto(+1);
-    if (ImGui::IsKeyPressed(GLFW_KEY_P, false) || ImGui::IsKeyPressed(GLFW_KEY_PAGE_UP, false)) stepPhoto(-1);
-    if (ImGui::IsKeyPressed(GLFW_KEY_F2, false)) screenshotRequested_ = true;
-    if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) toggleRecording();
+    if (keys_.pressed(GLFW_KEY_F)) debug.frusta = !debug.frusta, settingsChanged_ = true;
+    if (keys_.pressed(GLFW_KEY_N) || keys_.pressed(GLFW_KEY_PAGE_DOWN)) stepPhoto(+1);
+    if (keys_.pressed(GLFW_KEY_P) || keys_.pressed(GLFW_KEY_PAGE_UP)) stepPhoto(-1);
+    if (keys_.pressed(GLFW_KEY_F2)) screenshotRequested_ = true;
+    if (keys_.pressed(GLFW_KEY_R)) toggleRecording();
   }
 
   void stepPhoto(int steps) {
@@ -373,6 +379,26 @@ class Viewer {
     std::cout << "wrote " << path << " (" << fb.x << "x" << fb.y << ")\n";
   }
 
+  // F2 and the panel's button: the next free name of the panel's series (shot.png gives
+  // shot-001.png, shot-002.png…; never one written before), its full path said in the panel.
+  void writeRequestedScreenshot(glm::ivec2 fb) {
+    screenshotRequested_ = false;
+    std::string name;
+    try {
+      name = nextNumberedName(panel_.screenshotName, [](const std::string& n) {
+        std::error_code ec;
+        return std::filesystem::exists(n, ec) || ec;
+      });
+      writeScreenshot(name, fb);
+      std::error_code ec;
+      const auto full = std::filesystem::absolute(name, ec);
+      panel_.message = "wrote " + (ec ? name : full.string());
+    } catch (const std::exception& e) {
+      panel_.message = std::string("screenshot not written: ") + e.what();
+      std::cerr << "error: " << panel_.message << "\n";
+    }
+  }
+
   int loop() {
     auto last = Clock::now();
     int frame = 0;
@@ -400,6 +426,7 @@ class Viewer {
       }
       // Camera: a focus + context transition, else the keys and mouse.
       const NavigationInput in = readInput(dt);
+      keys_.endFrame();  // this frame has seen every press since the last one
       if (focusPath_) {
         const double t = msSince(focusStart_) / 1000.0;
         nav_->setCamera(focusPath_->at(t));
@@ -450,20 +477,12 @@ class Viewer {
       bool shotAfterUi = false;
       if (finalShot && !o_.screenshotUi) writeScreenshot(o_.screenshot, fb);
       if (finalShot && o_.screenshotUi) shotAfterUi = true;
-      if (screenshotRequested_ && !panel_.screenshotWithUi) {
-        writeScreenshot(panel_.screenshotName, fb);
-        panel_.message = std::string("wrote ") + panel_.screenshotName;
-        screenshotRequested_ = false;
-      }
+      if (screenshotRequested_ && !panel_.screenshotWithUi) writeRequestedScreenshot(fb);
       // The panel after the frame, so it shows this frame's state; what it changes applies next frame.
       if (showPanel_) drawPanel();
       window_->endUi();
       if (shotAfterUi) writeScreenshot(o_.screenshot, fb);
-      if (screenshotRequested_) {
-        writeScreenshot(panel_.screenshotName, fb);
-        panel_.message = std::string("wrote ") + panel_.screenshotName;
-        screenshotRequested_ = false;
-      }
+      if (screenshotRequested_) writeRequestedScreenshot(fb);
       window_->swapBuffers();
 
       const double ms = msSince(t0);
@@ -524,6 +543,7 @@ class Viewer {
   bool showPanel_ = true;
   bool settingsChanged_ = false;
   bool screenshotRequested_ = false;
+  KeyEvents keys_;
   bool recording_ = false;
   Clock::time_point recordStart_;
   std::vector<PathKey> recorded_;

@@ -41,6 +41,16 @@ GlfwWindow::GlfwWindow(int width, int height, const std::string& title, bool vsy
   }
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(vsync ? 1 : 0);
+  // Installed before Dear ImGui's backend, which keeps them and calls them from its own.
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
+    auto* self = static_cast<GlfwWindow*>(glfwGetWindowUserPointer(w));
+    if (self && self->keyHandler_ && action != GLFW_REPEAT) self->keyHandler_(key, action == GLFW_PRESS);
+  });
+  glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int focused) {
+    auto* self = static_cast<GlfwWindow*>(glfwGetWindowUserPointer(w));
+    if (self && self->keyHandler_ && !focused) self->keyHandler_(-1, false);
+  });
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -83,6 +93,8 @@ void GlfwWindow::pollEvents(double timeoutSeconds) {
   else
     glfwPollEvents();
 }
+
+void GlfwWindow::setKeyHandler(std::function<void(int key, bool down)> handler) { keyHandler_ = std::move(handler); }
 
 void GlfwWindow::beginUi() {
   ImGui_ImplOpenGL3_NewFrame();

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <string>
 
 struct GLFWwindow;
@@ -33,6 +34,10 @@ class GlfwWindow final : public gpu::Context {
   void swapBuffers();
   // Processes pending events; waits up to `timeoutSeconds` for one when > 0 (an idle viewer).
   void pollEvents(double timeoutSeconds = 0.0);
+  // Every key press and release as it happens (GLFW's key callback, chained with Dear ImGui's),
+  // and a release of every key when the window loses the focus (`down` false, key -1): a viewer
+  // that polls keys once per frame loses taps shorter than a frame.
+  void setKeyHandler(std::function<void(int key, bool down)> handler);
 
   // Dear ImGui on this window: beginUi() starts a UI frame, endUi() draws it into the bound
   // framebuffer. Debian's ImGui backend is built for desktop GL and leaves a GL error behind on
@@ -43,6 +48,7 @@ class GlfwWindow final : public gpu::Context {
  private:
   GLFWwindow* window_ = nullptr;
   bool imgui_ = false;
+  std::function<void(int, bool)> keyHandler_;
 };
 
 }  // namespace hv::viewer
