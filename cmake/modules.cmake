@@ -98,6 +98,7 @@ function(hv_define_modules)
   hv_module(render_gl PORTABLE DIRS render/gl EXTRA_SOURCES ${CMAKE_SOURCE_DIR}/src/hv/render/renderer.cpp
             DEPS gpu render PRIVATE_DEPS camera ibr image scene util)
   hv_module(viewer PORTABLE DIRS viewer DEPS camera PRIVATE_DEPS scene)
+  hv_module(pose PORTABLE DIRS pose DEPS camera util EXTERNAL glm PRIVATE_EXTERNAL eigen)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
   hv_module(scene_native DIRS scene/native DEPS scene util PRIVATE_EXTERNAL geos embree)
@@ -118,7 +119,7 @@ function(hv_define_modules)
     # Without GLFW and Dear ImGui, `histoview view` says what to install (no_viewer.cpp).
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/viewer_app\\.cpp$" DEPS session)
   endif()
-  hv_module(app DIRS app DEPS camera render PRIVATE_DEPS demo eval gpu image image_native io io_native scene
+  hv_module(app DIRS app DEPS camera render PRIVATE_DEPS demo eval gpu image image_native io io_native pose scene
             session util viewer_desktop PRIVATE_EXTERNAL cli11 json)
   # Header-only helpers of the tests.
   hv_module(testing DIRS testing EXTERNAL glm)

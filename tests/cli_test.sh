@@ -527,6 +527,62 @@ run_capped many timeout 120 "$HV" render "$city/scene-60k.json" --views "$city/v
 expect_rc "one view of a 60,000-photograph scene within 120 s ($((SECONDS - t60)) s)" 0
 check "60,000 photographs: the view was written" test -s "$DIR/r60k/${ids[0]}.png"
 
+# --- pose: a photograph's camera from control points. The demo's camera p0001 is the truth;
+# 24 world points in front of it projected through it (pinhole, as the demo's photographs are),
+# 0.3 px of noise, 4 of them moved far off (outliers); the first guess 3 m and 10 % of focal away.
+python3 - "$city" "$DIR" <<'PY'
+import json, math, random, sys
+city, out = sys.argv[1], sys.argv[2]
+cams = json.load(open(f"{city}/cameras.json"))["cameras"]
+c = next(k for k in cams if k["id"] == "p0001")
+R = [c["rotation"][0:3], c["rotation"][3:6], c["rotation"][6:9]]   # world -> camera, row-major
+random.seed(4)
+rows = ["id,u,v,x,y,z"]
+while len(rows) < 25:
+    u, v, d = random.uniform(0, c["width"]), random.uniform(0, c["height"]), random.uniform(15, 70)
+    ray = [(u - c["principal"][0]) / c["focal"][0], (v - c["principal"][1]) / c["focal"][1], 1.0]
+    X = [c["center"][i] + d * sum(R[j][i] * ray[j] for j in range(3)) for i in range(3)]   # C + d R^T ray
+    n = len(rows)
+    if n % 6 == 0:
+        u, v = random.uniform(0, c["width"]), random.uniform(0, c["height"])
+        name = f"wrong{n}"
+    else:
+        u, v = u + random.gauss(0, 0.3), v + random.gauss(0, 0.3)
+        name = f"pt{n}"
+    rows.append(f"{name},{u:.4f},{v:.4f},{X[0]:.4f},{X[1]:.4f},{X[2]:.4f}")
+open(f"{out}/gcp.csv", "w").write("\n".join(rows) + "\n")
+open(f"{out}/gcp-five.csv", "w").write("\n".join(rows[:6]) + "\n")
+open(f"{out}/gcp-bad.csv", "w").write("u,v,x,y,z\n1,2,3,4,5\n10,20,thirty,40,50\n")
+g = dict(c)
+g["center"] = [c["center"][0] + 3, c["center"][1] - 2, c["center"][2] + 1]
+g["focal"] = [c["focal"][0] * 1.1, c["focal"][1] * 1.1]
+g.pop("image", None); g.pop("mask", None)
+json.dump({"cameras": [g]}, open(f"{out}/pose-start.json", "w"))
+json.dump(c, open(f"{out}/pose-truth.json", "w"))
+PY
+run pose pose "$city/scene.json" --image p0001 --gcp "$DIR/gcp.csv" --start "$DIR/pose-start.json" -o "$DIR/posed.json"
+expect_rc "pose from 24 control points, 4 wrong" 0
+check "pose: the 4 wrong points are flagged outliers" test "$(grep -c OUTLIER "$out")" -eq 4
+expect_out "pose" "centre .*\+/-"
+check "pose: centre within 0.1 m, focal within 0.5 % of the truth" python3 - "$DIR/posed.json" "$DIR/pose-truth.json" <<'PY'
+import json, math, sys
+p = json.load(open(sys.argv[1]))["cameras"][0]
+t = json.load(open(sys.argv[2]))
+d = math.dist(p["center"], t["center"])
+f = abs(p["focal"][0] / t["focal"][0] - 1)
+print(f"centre {d:.4f} m off, focal {100 * f:.3f} % off")
+sys.exit(0 if d < 0.1 and f < 0.005 else 1)
+PY
+run pose-render render "$city/scene.json" --views "$DIR/posed.json" --out "$DIR/posed-render" --size 160x120
+expect_rc "the posed camera renders" 0
+run pose-five pose "$city/scene.json" --image p0001 --gcp "$DIR/gcp-five.csv" -o "$DIR/posed-five.json"
+expect_rc "pose: 5 points with the focal free" 2
+expect_out "pose: 5 points" "5 control point\(s\).*at least 6.*--refine none"
+run pose-bad pose "$city/scene.json" --image p0001 --gcp "$DIR/gcp-bad.csv" -o "$DIR/posed-bad.json"
+expect_rc "pose: a CSV with a word for a number" 2
+expect_out "pose: bad CSV" "gcp-bad.csv: line 3: column 'x': expected a finite number, got 'thirty'"
+check "pose: nothing written on error" test ! -e "$DIR/posed-bad.json"
+
 echo "cli test took $((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"
 ((failed == 0))

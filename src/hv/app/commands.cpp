@@ -6,6 +6,7 @@
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
 #include "hv/session/outputs.h"
+#include "hv/app/pose_command.h"
 #include "hv/app/render_command.h"
 #include "hv/app/settings_command.h"
 #include "hv/app/view_command.h"
@@ -29,6 +30,7 @@ void registerCommands(CLI::App& app) {
   addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
   addCamerasCommand(app, g_exit);
+  addPoseCommand(app, g_exit);
   addWebExportCommand(app, g_exit);
   addSettingsCommand(app, g_exit);
 }
