@@ -325,8 +325,7 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
       throw std::runtime_error("--quality: size " + size + ": expected WxH");
     view = view.resized(w, h);
   }
-  std::printf("
-4. Picture-quality options: frame time at %dx%d, view %s (median of %d frames after %d warm-up)\n",
+  std::printf("\n4. Picture-quality options: frame time at %dx%d, view %s (median of %d frames after %d warm-up)\n",
               view.width, view.height, view.id.c_str(), kFrameRepeats, kWarmupFrames);
   std::printf("  GL %s | load average %s\n", hv::gpu::queryLimits().renderer.c_str(), loadAverage().c_str());
   rule();
@@ -338,16 +337,22 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
       {"papers' blend (distance, no feather, level 0)", [](hv::ibr::BlendSettings&) {}},
       {"weights geometry", [](hv::ibr::BlendSettings& b) { b.weighting = hv::ibr::Weighting::Geometry; }},
       {"feather 16 px", [](hv::ibr::BlendSettings& b) { b.featherPx = 16.0; }},
-      {"mipmaps", [](hv::ibr::BlendSettings& b) { b.mipmaps = true; }},
+      // Anisotropic filtering is left out: llvmpipe's takes minutes per frame (docs/performance.md).
+      {"mipmaps (footprint-area level)", [](hv::ibr::BlendSettings& b) {
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
+       }},
       {"all three", [](hv::ibr::BlendSettings& b) {
          b.weighting = hv::ibr::Weighting::Geometry;
          b.featherPx = 16.0;
          b.mipmaps = true;
+         b.anisotropy = 1.0;
        }},
       {"all three, selection region", [](hv::ibr::BlendSettings& b) {
          b.weighting = hv::ibr::Weighting::Geometry;
          b.featherPx = 16.0;
          b.mipmaps = true;
+         b.anisotropy = 1.0;
          b.selection = hv::ibr::Selection::Region;
        }},
   };
