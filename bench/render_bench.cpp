@@ -5,6 +5,8 @@
 // with the context it ran on. Timings are compared as ratios against a baseline measured in the
 // same process, because these shared machines are noisy from one run to the next.
 // Usage: render_bench [--keep DIR]   (--keep: generate into DIR and leave the files there)
+//        render_bench --quality SCENE.json VIEWS.json [WxH]   (only part 4: the picture-quality
+//        options against the papers' blend on the first view of a given scene)
 // Results and how to read them: docs/performance.md.
 
 #include "hv/demo/demo_city.h"
@@ -308,17 +310,96 @@ int run(const fs::path& dir) {
   return 0;
 }
 
+// --- 4. Picture-quality options -----------------------------------------------------------------
+// Frame time of each option against the papers' blend, in one process, on one view of a given
+// scene (the first of `viewsPath`, at `size` when given): median of kFrameRepeats frames each.
+int benchQuality(const std::string& scenePath, const std::string& viewsPath, const std::string& size) {
+  hv::Diagnostics diag;
+  const hv::Scene scene = hv::loadScene(scenePath, diag);
+  const auto views = readViews(viewsPath, diag);
+  auto context = hv::gpu::createHeadlessContext();
+  hv::Camera view = views.front().camera;
+  if (!size.empty()) {
+    int w = 0, h = 0;
+    if (std::sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0)
+      throw std::runtime_error("--quality: size " + size + ": expected WxH");
+    view = view.resized(w, h);
+  }
+  std::printf("\n4. Picture-quality options: frame time at %dx%d, view %s (median of %d frames after %d warm-up)\n",
+              view.width, view.height, view.id.c_str(), kFrameRepeats, kWarmupFrames);
+  std::printf("  GL %s | load average %s\n", hv::gpu::queryLimits().renderer.c_str(), loadAverage().c_str());
+  rule();
+  struct Option {
+    const char* name;
+    void (*apply)(hv::ibr::BlendSettings&);
+  };
+  const Option options[] = {
+      {"papers' blend (distance, no feather, level 0)", [](hv::ibr::BlendSettings&) {}},
+      {"weights geometry", [](hv::ibr::BlendSettings& b) { b.weighting = hv::ibr::Weighting::Geometry; }},
+      {"feather 16 px", [](hv::ibr::BlendSettings& b) { b.featherPx = 16.0; }},
+      // Anisotropic filtering is left out: llvmpipe's takes minutes per frame (docs/performance.md).
+      {"mipmaps (footprint-area level)", [](hv::ibr::BlendSettings& b) {
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
+       }},
+      {"all three", [](hv::ibr::BlendSettings& b) {
+         b.weighting = hv::ibr::Weighting::Geometry;
+         b.featherPx = 16.0;
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
+       }},
+      {"all three, selection region", [](hv::ibr::BlendSettings& b) {
+         b.weighting = hv::ibr::Weighting::Geometry;
+         b.featherPx = 16.0;
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
+         b.selection = hv::ibr::Selection::Region;
+       }},
+  };
+  std::printf("  %-46s %7s %11s %9s %9s\n", "option", "images", "median ms", "vs papers", "cpu ms");
+  hv::render::RenderSettings settings;
+  // The papers' blend as the reference, whatever the defaults are.
+  settings.blend.weighting = hv::ibr::Weighting::Distance;
+  settings.blend.featherPx = 0.0;
+  settings.blend.mipmaps = false;
+  settings.blend.selection = hv::ibr::Selection::Global;
+  const hv::ibr::BlendSettings papers = settings.blend;
+  hv::render::Renderer renderer(scene, settings, diag);
+  Timing base;
+  for (const Option& o : options) {
+    renderer.settings().blend = papers;
+    o.apply(renderer.settings().blend);
+    for (int i = 0; i < kWarmupFrames; ++i) renderer.render(view);
+    std::vector<Timing> t;
+    for (int i = 0; i < kFrameRepeats; ++i) t.push_back(measure([&] { renderer.render(view); }));
+    const Timing m = median(t);
+    if (&o == &options[0]) base = m;
+    std::printf("  %-46s %7zu %11.1f %8.2fx %9.1f\n", o.name, renderer.lastPlan().images.size(), m.wall,
+                m.wall / base.wall, m.cpu);
+  }
+  rule();
+  return diag.ok() ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   WorkDir dir;
+  if ((argc == 4 || argc == 5) && std::string(argv[1]) == "--quality") {
+    try {
+      return benchQuality(argv[2], argv[3], argc == 5 ? argv[4] : "");
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 2;
+    }
+  }
   if (argc == 3 && std::string(argv[1]) == "--keep") {
     dir.path = argv[2];
     dir.keep = true;
   } else if (argc == 1) {
     dir.path = fs::temp_directory_path() / ("hv-render-bench-" + std::to_string(getpid()));
   } else {
-    std::fprintf(stderr, "usage: %s [--keep DIR]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--keep DIR] | --quality SCENE.json VIEWS.json [WxH]\n", argv[0]);
     return 2;
   }
   try {

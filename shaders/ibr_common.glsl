@@ -22,6 +22,7 @@ struct HvImage {
   vec2 depthMin, depthInvSize;
   float near, far, biasAbs, biasRel;
   vec2 date;      // the photograph's date interval, days (+-1e7 when open)
+  float focal;    // pixels (mean of fx, fy): the geometry weights' footprint
 };
 
 HvImage hv_fetchImage(int i) {
@@ -56,6 +57,7 @@ HvImage hv_fetchImage(int i) {
   im.biasAbs = t7.z;
   im.biasRel = t7.w;
   im.date = t8.xy;
+  im.focal = t8.z;
   im.dscale = t9.xy;
   im.p1 = t9.z;
   im.p2 = t9.w;

@@ -52,7 +52,23 @@ uniform bool u_points;                     // the point pass ran (points.frag)
 uniform float u_meshPushBack;              // hybrid: the mesh's push-back in the depth maps (depth.frag)
 uniform highp sampler2D u_pointColor;      // its colour, per view-depth texel (points.frag)
 
+// Picture quality (docs/design.md, step 5; the CPU twins are in hv/ibr/weights.h and
+// hv::ibr::referenceBlend): how the weights are made, feathering, mipmaps.
+uniform int u_weighting;           // hv::ibr::Weighting: 0 distance (the papers'), 1 geometry
+uniform float u_resolutionWeight;  // geometry: lambda
+uniform float u_penaltyEpsilon;    // geometry: f(p) = 1/(epsilon^2 + p^2)
+uniform float u_viewFocal;         // the view's focal length, pixels
+uniform float u_feather;           // photograph pixels; 0: no feathering
+uniform bool u_maskFeather;        // feather toward mask edges too (from a mip level of the mask)
+// Mipmaps: 0 off (level 0); 1 the level of the footprint's area (log2 of the square root of the
+// texel area a view pixel covers, textureLod); 2 textureGrad with anisotropic filtering.
+uniform int u_mipmaps;
+uniform float u_sliceWidth;        // texels of a slice
+
 out vec4 o_color;
+
+// hv::ibr::kMaxGeometryK + 1: a pixel's best K and the K+1-th.
+#define HV_MAX_BEST 17
 
 bool colourMode() { return u_mode == 0 || u_mode >= 4; }
 
@@ -78,8 +94,9 @@ vec4 encodeCount(int n) { return vec4(float(n & 255) / 255.0, float(n >> 8) / 25
 // Whether image `im` may texture P: projection, distortion domain, image bounds, and whether the
 // surface existed at the photograph's date. Outputs the depth-map and image texture coordinates
 // and the depth of P in the image.
-bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out float z) {
-  vec2 p, pd;
+// Also outputs the ideal and distorted pixels p, pd (feathering).
+bool hv_appliesAt(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out vec2 p, out vec2 pd,
+                  out float z) {
   dt = vec2(0.0);
   uv = vec2(0.0);
   if (!hv_project(im, P, p, pd, z)) return false;
@@ -87,6 +104,34 @@ bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out 
   dt = hv_depthCoord(im, p);
   uv = pd * im.uvScale;
   return true;
+}
+
+bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out float z) {
+  vec2 p, pd;
+  return hv_appliesAt(im, P, existed, dt, uv, p, pd, z);
+}
+
+// The geometry penalty of image `im` at P with surface normal n, twin of hv::ibr::geometryPenalty:
+// the angle between the photograph's and the view's rays plus lambda * max(0, ln rho), rho the
+// photograph's texel footprint on the surface over the view's pixel footprint (cosines clamped at
+// hv::ibr::kMinCosine).
+float hv_penalty(HvImage im, vec3 P, vec3 n) {
+  vec3 toI = P - im.C, toV = P - u_viewCenter;
+  float di = length(toI), dv = length(toV);
+  vec3 a = toI / di, b = toV / dv;
+  float theta = atan(length(cross(a, b)), dot(a, b));
+  float ci = max(abs(dot(n, a)), 0.05), cv = max(abs(dot(n, b)), 0.05);
+  float rho = (di * u_viewFocal * cv) / (dv * im.focal * ci);
+  return theta + u_resolutionWeight * max(0.0, log(rho));
+}
+
+// The step on the surface plane (P, n) to the view ray `rayNext` of a neighbouring pixel, its
+// denominator clamped (a ray along the plane); mipmaps take the photograph's footprint from it.
+vec3 hv_surfaceStep(vec3 P, vec3 n, vec3 rayNext) {
+  float b = dot(rayNext, n);
+  float bmin = 0.05 * length(rayNext);
+  b = b < 0.0 ? min(b, -bmin) : max(b, bmin);
+  return u_viewCenter + rayNext * (dot(P - u_viewCenter, n) / b) - P;
 }
 
 #ifdef HV_NAIVE
@@ -104,6 +149,52 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
   hv_accumulate(i, im, textureLod(image, uv, 0.0), u_method == 1, u_debugImage, b);
 }
 #include "generated:naive_binding"
+#endif
+
+#ifndef HV_NAIVE
+// Texture coordinates of a render-frame point in image `im` (its distorted pixel, through the lens
+// model, times uvScale), for the footprint's derivatives.
+vec2 hv_uvAt(HvImage im, vec3 Q) {
+  vec3 ph = im.M * (Q - im.C);
+  vec2 pd;
+  hv_distort(im, ph.xy / max(ph.z, 1e-6), pd);  // outside the domain: the ideal pixel
+  return pd * im.uvScale;
+}
+
+// The one place a photograph's colour is read (premultiplied, alpha = mask): level 0 (the
+// papers'), or with mipmaps at the level of the view pixel's footprint in the photograph, the uv
+// derivatives taken as differences of the distorted coordinates of the pixel's neighbours on the
+// surface (P + dPdx, P + dPdy). A per-photograph colour transform applies to what this returns.
+// Without anisotropic filtering the level is that of the footprint's area: the square root of
+// the texel area a view pixel covers (GL's isotropic rule takes the longer axis, which blurs a
+// surface seen obliquely, the street, across its whole width).
+vec4 hv_samplePhoto(HvImage im, vec2 uv, vec3 P, vec3 dPdx, vec3 dPdy) {
+  vec3 at = vec3(uv, im.slice);
+  if (u_mipmaps == 0) return textureLod(u_images, at, 0.0);
+  vec2 gx = hv_uvAt(im, P + dPdx) - uv, gy = hv_uvAt(im, P + dPdy) - uv;
+  if (u_mipmaps == 2) return textureGrad(u_images, at, gx, gy);
+  vec2 size = vec2(textureSize(u_images, 0).xy);
+  vec2 jx = gx * size, jy = gy * size;
+  float area = abs(jx.x * jy.y - jx.y * jy.x);
+  return textureLod(u_images, at, 0.5 * log2(max(area, 1e-12)));
+}
+
+// The feather factor of image `im` at ideal pixel p, distorted pd, texture uv: twin of
+// hv::ibr::featherFactor(borderDistance) times maskFeather at featherLevel.
+float hv_feather(HvImage im, vec2 p, vec2 pd, vec2 uv) {
+  if (u_feather <= 0.0) return 1.0;
+  float b = min(min(pd.x, pd.y), min(im.size.x - pd.x, im.size.y - pd.y));
+  if (im.r2max >= 0.0 && im.r2max < 1e29) {
+    vec2 x = (p - im.dc) / im.dscale;
+    b = min(b, (sqrt(im.r2max) - length(x)) * min(im.dscale.x, im.dscale.y));
+  }
+  float f = smoothstep(0.0, u_feather, b);
+  if (u_maskFeather && f > 0.0) {
+    float level = max(0.0, log2(max(u_feather * im.uvScale.x * u_sliceWidth, 1.0)));
+    f *= clamp(2.0 * textureLod(u_images, vec3(uv, im.slice), level).a - 1.0, 0.0, 1.0);
+  }
+  return f;
+}
 #endif
 
 void main() {
@@ -160,16 +251,65 @@ void main() {
     row = tile.y * u_tilesX + tile.x;
     n = int(texelFetch(u_tileLists, ivec2(0, row), 0).r);
   }
+  // Mipmaps: the view pixel's neighbours on the surface plane.
+  vec3 dPdx = vec3(0.0), dPdy = vec3(0.0);
+  if (u_mipmaps != 0) {
+    dPdx = hv_surfaceStep(P, normal, u_viewDirFromPix * vec3(pIdeal + vec2(1.0, 0.0), 1.0));
+    dPdy = hv_surfaceStep(P, normal, u_viewDirFromPix * vec3(pIdeal + vec2(0.0, 1.0), 1.0));
+  }
+  // Geometry weights: the pixel's best K + 1 by penalty, ascending (ties: visiting order), with
+  // their texels, feather factors and indices.
+  bool geometry = u_weighting == 1 && u_method != 1;
+  int cap = min(u_blendK, HV_MAX_BEST - 1) + 1;
+  float bestP[HV_MAX_BEST];
+  vec4 bestT[HV_MAX_BEST];
+  float bestF[HV_MAX_BEST];
+  int bestI[HV_MAX_BEST];
+  int nBest = 0;
   for (int k = 0; k < n; ++k) {
     int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
     HvImage im = hv_fetchImage(i);
-    vec2 dt, uv;
+    vec2 dt, uv, p, pd;
     float z;
-    if (!hv_applies(im, P, existed, dt, uv, z)) continue;
+    if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
     if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack))
       continue;
-    hv_accumulate(i, im, textureLod(u_images, vec3(uv, im.slice), 0.0), u_method == 1, u_debugImage, blend);
-    if (blend.done) break;
+    vec4 texel = hv_samplePhoto(im, uv, P, dPdx, dPdy);
+    if (texel.a <= 0.0) continue;
+    float feather = hv_feather(im, p, pd, uv);
+    if (!geometry) {
+      hv_accumulateFeathered(i, im, texel, feather, u_method == 1, u_debugImage, blend);
+      if (blend.done) break;
+      continue;
+    }
+    float pen = hv_penalty(im, P, normal);
+    if (nBest == cap && pen >= bestP[cap - 1]) continue;
+    int j = min(nBest, cap - 1);
+    while (j > 0 && bestP[j - 1] > pen) {
+      bestP[j] = bestP[j - 1];
+      bestT[j] = bestT[j - 1];
+      bestF[j] = bestF[j - 1];
+      bestI[j] = bestI[j - 1];
+      --j;
+    }
+    bestP[j] = pen;
+    bestT[j] = texel;
+    bestF[j] = feather;
+    bestI[j] = i;
+    nBest = min(nBest + 1, cap);
+  }
+  if (geometry) {
+    // w_j = (f(p_j) - f(p_K+1)) * feather_j over the best K (hv::ibr::blendWeights of the penalties).
+    float e2 = u_penaltyEpsilon * u_penaltyEpsilon;
+    float fNext = nBest == cap ? 1.0 / (e2 + bestP[cap - 1] * bestP[cap - 1]) : 0.0;
+    for (int j = 0; j < min(nBest, cap - 1); ++j) {
+      float w = max(0.0, 1.0 / (e2 + bestP[j] * bestP[j]) - fNext) * bestF[j];
+      if (w <= 0.0) continue;
+      blend.sum += w * bestT[j].rgb;
+      blend.alpha += w * bestT[j].a;
+      blend.count += 1;
+      if (bestI[j] == u_debugImage) blend.mine = w * bestT[j].a;
+    }
   }
 #endif
   vec3 sum = blend.sum;

@@ -116,7 +116,10 @@ HvBlend hv_noBlend() { return HvBlend(vec3(0.0), 0.0, 0, false, 0.0, vec3(0.0), 
 // (it does not show this surface), so in region selection the next one takes its place.
 // `debugImage`: the image whose share is kept in b.mine (-1: none). Twin of the loop body of
 // hv::ibr::referenceBlend.
-void hv_accumulate(int i, HvImage im, vec4 texel, bool nearest, int debugImage, inout HvBlend b) {
+// `feather` (hv::ibr::featherFactor and maskFeather, 1 without feathering) multiplies the image's
+// weight: w_i = (f(d_i) - f(d_K+1)) * feather_i.
+void hv_accumulateFeathered(int i, HvImage im, vec4 texel, float feather, bool nearest, int debugImage,
+                            inout HvBlend b) {
   if (texel.a <= 0.0) return;
   if (nearest) {
     b = HvBlend(texel.rgb, texel.a, 1, true, i == debugImage ? texel.a : 0.0, vec3(0.0), 0.0, 0.0, 1, 0.0, 0);
@@ -139,22 +142,27 @@ void hv_accumulate(int i, HvImage im, vec4 texel, bool nearest, int debugImage, 
       return;
     }
     b.passed += 1;
-    b.sum += f * texel.rgb;
-    b.alpha += f * texel.a;
-    b.sum0 += texel.rgb;
-    b.alpha0 += texel.a;
+    b.sum += f * feather * texel.rgb;
+    b.alpha += f * feather * texel.a;
+    b.sum0 += feather * texel.rgb;
+    b.alpha0 += feather * texel.a;
     b.count += 1;
     b.ties = f == b.fLast ? b.ties + 1 : 1;
     b.fLast = f;
     if (i == debugImage) {
-      b.mine = f * texel.a;
-      b.mine0 = texel.a;
+      b.mine = f * feather * texel.a;
+      b.mine0 = feather * texel.a;
     }
     return;
   }
-  if (im.weight <= 0.0) return;
-  b.sum += im.weight * texel.rgb;
-  b.alpha += im.weight * texel.a;
+  float w = im.weight * feather;
+  if (w <= 0.0) return;
+  b.sum += w * texel.rgb;
+  b.alpha += w * texel.a;
   b.count += 1;
-  if (i == debugImage) b.mine = im.weight * texel.a;
+  if (i == debugImage) b.mine = w * texel.a;
+}
+
+void hv_accumulate(int i, HvImage im, vec4 texel, bool nearest, int debugImage, inout HvBlend b) {
+  hv_accumulateFeathered(i, im, texel, 1.0, nearest, debugImage, b);
 }

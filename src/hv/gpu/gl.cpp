@@ -39,6 +39,15 @@ GlLimits queryLimits() {
   l.maxVaryingComponents = getInt(GL_MAX_VARYING_COMPONENTS);
   l.maxFragmentUniformVectors = getInt(GL_MAX_FRAGMENT_UNIFORM_VECTORS);
   l.maxRenderbufferSize = getInt(GL_MAX_RENDERBUFFER_SIZE);
+  const int extensions = getInt(GL_NUM_EXTENSIONS);
+  for (int i = 0; i < extensions; ++i) {
+    const GLubyte* name = glGetStringi(GL_EXTENSIONS, GLuint(i));
+    if (name && std::string(reinterpret_cast<const char*>(name)) == "GL_EXT_texture_filter_anisotropic") {
+      GLfloat v = 0.0f;
+      glGetFloatv(kGlMaxTextureMaxAnisotropy, &v);
+      l.maxAnisotropy = v;
+    }
+  }
   l.vendor = getString(GL_VENDOR);
   l.renderer = getString(GL_RENDERER);
   l.version = getString(GL_VERSION);

@@ -15,6 +15,10 @@
 namespace hv::gpu {
 
 // What the context can do; queried once at start and used to size everything.
+// EXT_texture_filter_anisotropic's enums (not in the core GLES 3.0 header).
+inline constexpr GLenum kGlTextureMaxAnisotropy = 0x84FE;
+inline constexpr GLenum kGlMaxTextureMaxAnisotropy = 0x84FF;
+
 struct GlLimits {
   int maxTextureSize = 0;
   int maxArrayTextureLayers = 0;
@@ -23,6 +27,8 @@ struct GlLimits {
   int maxVaryingComponents = 0;
   int maxFragmentUniformVectors = 0;
   int maxRenderbufferSize = 0;
+  // GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT where EXT_texture_filter_anisotropic is present, else 0.
+  float maxAnisotropy = 0.0f;
   std::string vendor, renderer, version, glslVersion;
 };
 GlLimits queryLimits();

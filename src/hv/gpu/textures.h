@@ -51,11 +51,12 @@ inline Texture makeRgba8Image(int w, int h) {
   return t;
 }
 
-// `layers` RGBA8 photographs of w x h in one array, bilinear.
-inline Texture makeRgba8Array(int w, int h, int layers) {
+// `layers` RGBA8 photographs of w x h in one array, bilinear, with `levels` mip levels (immutable
+// storage; the caller uploads every level and picks the minification filter).
+inline Texture makeRgba8Array(int w, int h, int layers, int levels = 1) {
   Texture t = makeTexture();
   glBindTexture(GL_TEXTURE_2D_ARRAY, t.id());
-  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, w, h, layers, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, levels, GL_RGBA8, w, h, layers);
   setLinearClamp(GL_TEXTURE_2D_ARRAY);
   return t;
 }

@@ -57,6 +57,12 @@ FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& 
     for (const auto& c : regionCandidates(*frusta, view, count, s.regionGrid, keepMeta)) add(c.photo, c.distance);
     return plan;
   }
+  if (s.weighting == Weighting::Geometry) {
+    // Each pixel picks its own best K by penalty: the frame passes the `candidates` nearest.
+    for (const auto& c : index.nearest(view.center, size_t(std::max(s.candidates, 1)), keep))
+      plan.images.push_back({c.photo, c.distance, blendFalloff(c.distance, plan.sigma)});
+    return plan;
+  }
   const auto cands = index.nearest(view.center, size_t(std::max(s.k, 0)) + 1, keep);
   std::vector<double> d;
   for (const auto& c : cands) d.push_back(c.distance);
@@ -120,7 +126,7 @@ void packImageParams(const ImageParams& p, float* o) {
   const glm::vec2 days = gpuDays(p.date);
   o[32] = days.x;
   o[33] = days.y;
-  o[34] = 0.0f;
+  o[34] = float(0.5 * (cam.focal.x + cam.focal.y));
   o[35] = 0.0f;
   o[36] = float(d.scale.x);
   o[37] = float(d.scale.y);

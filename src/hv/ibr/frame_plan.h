@@ -35,8 +35,34 @@ enum class Selection {
   Global,
 };
 
+// How each pixel weighs the photographs it blends (docs/design.md, step 5; hv/ibr/weights.h).
+enum class Weighting {
+  // The papers' (Brédif 2013 eq. 1-2): by the distance of the camera centre to the view centre.
+  Distance,
+  // Per pixel, by a penalty of the angle between the photograph's ray and the view's ray and of the
+  // photograph's resolution on the surface (texel footprint against the view's pixel footprint,
+  // grazing incidence included); the best K of the frame's candidates per pixel (after Buehler et
+  // al. 2001). The candidates are those of the selection: region, its candidates; global, the
+  // `candidates` nearest to the view.
+  Geometry,
+};
+
+// The most images the geometry weights blend at one pixel (the shader's arrays hold K + 1).
+inline constexpr int kMaxGeometryK = 16;
+
 struct BlendSettings {
   int k = 8;  // images blended at one pixel (at most)
+  Weighting weighting = Weighting::Distance;
+  double resolutionWeight = 0.5;  // lambda: radians of penalty per unit of ln(footprint ratio)
+  double penaltyEpsilon = 0.05;   // radians: f(p) = 1/(epsilon^2 + p^2) for the geometry weights
+  // Weights fall smoothly to 0 over this many photograph pixels toward each photograph's border,
+  // lens domain edge and mask edges; 0: hard edges (the papers').
+  double featherPx = 0.0;
+  // Photograph slices sampled with mipmaps, the level from the projected footprint (through the
+  // lens distortion), and anisotropic filtering up to `anisotropy` where the context has it; off:
+  // level 0 (the papers').
+  bool mipmaps = false;
+  double anisotropy = 8.0;
   Selection selection = Selection::Global;
   // Region: how many photographs a frame may make resident and pass to the shader (also capped by
   // the image slots). Global ignores it.
@@ -94,7 +120,7 @@ struct SliceLayout {
 //   t6     : depth rect: pxMin (xy), 1/(pxMax - pxMin) (zw)
 //   t7     : near, far, bias (absolute, scene units), bias (relative to depth)
 //   t8     : the photograph's date interval (days since 1970-01-01, hv/util/dates.h; +-kOpenDay when
-//            undated), 0, 0
+//            undated), focal length (pixels, mean of fx and fy), 0
 //   t9     : distortion scale (xy), tangential p1, p2
 //   t10    : fish-eye affine l1, l2, model (0 polynomial, 1 fish-eye), 0
 inline constexpr int kTexelsPerImage = 11;

@@ -124,6 +124,7 @@ TEST(PackImageParams, LayoutMatchesTheShaderReader) {
   EXPECT_FLOAT_EQ(o[31], 0.01f);
   EXPECT_FLOAT_EQ(o[32], -1e7f);  // undated: open interval
   EXPECT_FLOAT_EQ(o[33], 1e7f);
+  EXPECT_FLOAT_EQ(o[34], 350.0f);  // the focal length, for the geometry weights' footprints
   EXPECT_FLOAT_EQ(o[36], 1.0f);  // a pixel polynomial: scale 1, no tangential or affine terms
   EXPECT_FLOAT_EQ(o[38], 0.0f);
   EXPECT_FLOAT_EQ(o[42], 0.0f);  // polynomial model

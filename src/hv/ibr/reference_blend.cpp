@@ -20,20 +20,57 @@ std::optional<ImageHit> projectIntoImage(const ImageParams& im, const glm::dvec3
   return hit;
 }
 
+double borderDistance(const ImageParams& im, const ImageHit& hit) {
+  const Camera& cam = im.camera;
+  const glm::dvec2 pd = hit.pxDistorted;
+  double b = std::min({pd.x, pd.y, cam.width - pd.x, cam.height - pd.y});
+  if (cam.distortion && !cam.distortion->isIdentity() && cam.distortion->r2max < 1e29) {
+    const LensDistortion& d = *cam.distortion;
+    const glm::dvec2 x = (hit.pxIdeal - d.center) / d.scale;
+    b = std::min(b, (std::sqrt(d.r2max) - glm::length(x)) * std::min(d.scale.x, d.scale.y));
+  }
+  return b;
+}
+
+double featherLevel(const ImageParams& im, double featherPx, int sliceWidth) {
+  return std::max(0.0, std::log2(std::max(featherPx * im.layout.uvScale.x * sliceWidth, 1.0)));
+}
+
 BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& images, BlendMethod method,
-                           const TextureLookup& texture, const VisibilityTest& visible, Selection selection, int k) {
+                           const TextureLookup& texture, const VisibilityTest& visible, Selection selection, int k,
+                           const BlendOptions& opt) {
   BlendResult out;
   out.contribution.assign(images.size(), 0.0);
   glm::dvec3 sum(0.0);
+  const bool geometry = opt.weighting == Weighting::Geometry;
   // Region: the images that passed so far, with their texels (the first K blend, the K+1-th ends it).
   std::vector<std::pair<size_t, glm::dvec4>> passed;
+  std::vector<double> feather(images.size(), 1.0), penalty(images.size(), 0.0);
   for (size_t i = 0; i < images.size(); ++i) {
     const ImageParams& im = images[i];
     const auto hit = projectIntoImage(im, P);
     if (!hit) continue;
     if (visible && !visible(i, P, hit->depth)) continue;
-    const glm::dvec4 texel = texture(im.layout.slice, hit->pxDistorted * im.layout.uvScale);
+    const glm::dvec2 uv = hit->pxDistorted * im.layout.uvScale;
+    const glm::dvec4 texel = texture(im.layout.slice, uv);
     if (texel.a <= 0.0) continue;
+    if (opt.featherPx > 0.0) {
+      feather[i] = featherFactor(borderDistance(im, *hit), opt.featherPx);
+      if (opt.mask)
+        feather[i] *= maskFeather(opt.mask(im.layout.slice, uv, featherLevel(im, opt.featherPx, opt.sliceWidth)));
+    }
+    if (geometry && method != BlendMethod::Nearest) {
+      GeometryPenaltyInput g;
+      g.point = P;
+      g.viewCenter = opt.viewCenter;
+      g.imageCenter = im.centerRender;
+      g.normal = opt.normal;
+      g.viewFocal = opt.viewFocal;
+      g.imageFocal = 0.5 * (im.camera.focal.x + im.camera.focal.y);
+      penalty[i] = geometryPenalty(g, opt.resolutionWeight);
+      passed.emplace_back(i, texel);
+      continue;
+    }
     if (method == BlendMethod::Nearest) {
       // Images are sorted by distance: the first that passes every test wins.
       out.color = glm::dvec3(texel) / texel.a;
@@ -47,18 +84,37 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
       if (int(passed.size()) > std::max(k, 1)) break;
       continue;
     }
-    if (im.weight <= 0.0) continue;
-    sum += im.weight * glm::dvec3(texel);  // premultiplied: rgb already times alpha
-    out.alpha += im.weight * texel.a;
-    out.contribution[i] = im.weight * texel.a;
+    const double w = im.weight * feather[i];
+    if (w <= 0.0) continue;
+    sum += w * glm::dvec3(texel);  // premultiplied: rgb already times alpha
+    out.alpha += w * texel.a;
+    out.contribution[i] = w * texel.a;
     ++out.count;
+  }
+  if (geometry && method != BlendMethod::Nearest) {
+    std::stable_sort(passed.begin(), passed.end(),
+                     [&](const auto& a, const auto& b) { return penalty[a.first] < penalty[b.first]; });
+    const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
+    const double fNext =
+        passed.size() > blended ? blendFalloff(penalty[passed[blended].first], opt.penaltyEpsilon) : 0.0;
+    for (size_t j = 0; j < blended; ++j) {
+      const auto& [i, texel] = passed[j];
+      const double w = std::max(0.0, blendFalloff(penalty[i], opt.penaltyEpsilon) - fNext) * feather[i];
+      if (w <= 0.0) continue;
+      sum += w * glm::dvec3(texel);
+      out.alpha += w * texel.a;
+      out.contribution[i] = w * texel.a;
+      ++out.count;
+    }
+    if (out.alpha > 0.0) out.color = sum / out.alpha;
+    return out;
   }
   if (selection == Selection::Region) {
     const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
     const double fNext = passed.size() > blended ? images[passed[blended].first].weight : 0.0;
     for (size_t j = 0; j < blended; ++j) {
       const auto& [i, texel] = passed[j];
-      const double w = images[i].weight - fNext;
+      const double w = (images[i].weight - fNext) * feather[i];
       if (w <= 0.0) continue;
       sum += w * glm::dvec3(texel);
       out.alpha += w * texel.a;
@@ -84,6 +140,14 @@ glm::dvec4 sampleBilinear(const Image8& img, glm::dvec2 uv) {
   const int x0 = int(x0f), y0 = int(y0f);
   return (1 - ty) * ((1 - tx) * texel(x0, y0) + tx * texel(x0 + 1, y0)) +
          ty * ((1 - tx) * texel(x0, y0 + 1) + tx * texel(x0 + 1, y0 + 1));
+}
+
+glm::dvec4 sampleTrilinear(const std::vector<Image8>& chain, glm::dvec2 uv, double lod) {
+  const double l = std::clamp(lod, 0.0, double(chain.size()) - 1.0);
+  const size_t l0 = size_t(std::floor(l)), l1 = std::min(l0 + 1, chain.size() - 1);
+  const double t = l - double(l0);
+  const glm::dvec4 a = sampleBilinear(chain[l0], uv);
+  return t > 0.0 ? (1.0 - t) * a + t * sampleBilinear(chain[l1], uv) : a;
 }
 
 }  // namespace hv::ibr

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "hv/ibr/frame_plan.h"
+#include "hv/ibr/weights.h"
 #include "hv/image/image.h"
 
 #include <functional>
@@ -35,17 +36,48 @@ struct ImageHit {
 };
 std::optional<ImageHit> projectIntoImage(const ImageParams& image, const glm::dvec3& pointRender);
 
+// Mask alpha of slice `slice` at `uv`, trilinear at mip level `lod` of the slice's chain (sliceMipChain).
+using MaskLookup = std::function<double(int slice, glm::dvec2 uv, double lod)>;
+
+// What the geometry weights and the feathering need besides the images (BlendSettings' fields and
+// the pixel's geometry); the defaults are the papers' blend.
+struct BlendOptions {
+  Weighting weighting = Weighting::Distance;
+  double resolutionWeight = 0.5;
+  double penaltyEpsilon = 0.05;
+  double featherPx = 0.0;
+  glm::dvec3 viewCenter{0.0};  // render frame
+  double viewFocal = 1.0;      // pixels
+  glm::dvec3 normal{0.0, 0.0, 1.0};
+  // Feathering toward mask edges: the mask averaged over the feather width; null: none.
+  MaskLookup mask;
+  int sliceWidth = 1;  // texels, to turn the feather width into a mip level
+};
+
+// Distance, in photograph pixels, of a projection to the photograph's border and (distorted
+// photographs) to the edge of its lens domain, measured in ideal pixels along the radius.
+double borderDistance(const ImageParams& image, const ImageHit& hit);
+// The mip level whose texels span the feather width: log2(featherPx * uvScale.x * sliceWidth), >= 0.
+double featherLevel(const ImageParams& image, double featherPx, int sliceWidth);
+
 // `images` in ascending distance to the view. Global selection: each image's weight is its w_i.
 // Region selection (Buehler et al. 2001's per-pixel best k, Brédif 2013's weights): each image's
 // weight is f(d_i); the first `k` images that pass every test (projection, visibility, mask
 // alpha > 0) contribute w_i = f(d_i) - f(d_K+1), d_K+1 the distance of the K+1-th that passes at
 // this point (f = 0 when none does). Nearest: the first that passes, either way.
+// Geometry weighting (either selection): every image that passes is ranked by its penalty
+// p_i (hv/ibr/weights.h), ties in list order; the first k blend with f(p_i) - f(p_K+1), f with
+// sigma = penaltyEpsilon. Feathering multiplies each weight by featherFactor(borderDistance) and,
+// with a mask lookup, maskFeather of the mask at featherLevel.
 BlendResult referenceBlend(const glm::dvec3& pointRender, const std::vector<ImageParams>& images, BlendMethod method,
                            const TextureLookup& texture, const VisibilityTest& visible,
-                           Selection selection = Selection::Global, int k = 0);
+                           Selection selection = Selection::Global, int k = 0, const BlendOptions& options = {});
 
 // Bilinear lookup with clamp-to-edge and texel centres at (i + 0.5) / size, as GL_LINEAR does,
 // of an RGBA8 image; returns values in [0, 1].
 glm::dvec4 sampleBilinear(const Image8& rgba, glm::dvec2 uv);
+// GL_LINEAR_MIPMAP_LINEAR at an explicit level of detail (clamped to the chain) of a mip chain
+// (ibr::sliceMipChain): the bilinear lookups of the two levels around `lod`, mixed linearly.
+glm::dvec4 sampleTrilinear(const std::vector<Image8>& chain, glm::dvec2 uv, double lod);
 
 }  // namespace hv::ibr

@@ -58,4 +58,42 @@ Image8 makeSliceImage(const Camera& cam, const Image8& photo, const Image8& mask
   return out;
 }
 
+int mipLevelCount(int w, int h) {
+  int levels = 1;
+  for (int s = std::max(w, h); s > 1; s /= 2) ++levels;
+  return levels;
+}
+
+std::size_t mipChainBytes(int w, int h) {
+  std::size_t bytes = 0;
+  for (int l = 0; l < mipLevelCount(w, h); ++l)
+    bytes += std::size_t(std::max(1, w >> l)) * std::size_t(std::max(1, h >> l)) * 4;
+  return bytes;
+}
+
+std::vector<Image8> sliceMipChain(const Image8& slice) {
+  std::vector<Image8> chain;
+  chain.push_back(slice);
+  const int levels = mipLevelCount(slice.width, slice.height);
+  for (int l = 1; l < levels; ++l) {
+    const Image8& a = chain.back();
+    Image8 b;
+    b.width = std::max(1, a.width / 2);
+    b.height = std::max(1, a.height / 2);
+    b.channels = a.channels;
+    b.data.assign(size_t(b.width) * b.height * b.channels, 0);
+    for (int y = 0; y < b.height; ++y)
+      for (int x = 0; x < b.width; ++x)
+        for (int c = 0; c < b.channels; ++c) {
+          int sum = 0;
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx)
+              sum += a.at(std::min(2 * x + dx, a.width - 1), std::min(2 * y + dy, a.height - 1), c);
+          b.data[(size_t(y) * b.width + x) * b.channels + c] = std::uint8_t((sum + 2) / 4);
+        }
+    chain.push_back(std::move(b));
+  }
+  return chain;
+}
+
 }  // namespace hv::ibr

@@ -1,5 +1,6 @@
 #include "hv/render/frame_builder.h"
 
+#include "hv/ibr/slice_image.h"
 #include "hv/render/geometry_tiles.h"
 
 #include "hv/util/log.h"
@@ -55,8 +56,9 @@ void FrameBuilder::allocateSlots() {
   if (layout_.depthSize != settings_.depthSize)
     diag_.warn("depth-map size " + std::to_string(settings_.depthSize) + " exceeds MAX_TEXTURE_SIZE; using " +
                std::to_string(layout_.depthSize));
-  const std::size_t perSlot =
-      std::size_t(w) * h * 4 + std::size_t(layout_.depthSize) * layout_.depthSize * 4;
+  // The array binding holds each slice's mip chain (mipmaps, feathering toward mask edges).
+  const std::size_t perSlot = (naive() ? std::size_t(w) * h * 4 : ibr::mipChainBytes(w, h)) +
+                              std::size_t(layout_.depthSize) * layout_.depthSize * 4;
   const int byMemory = int(std::max<std::size_t>(1, settings_.memoryBudgetBytes / perSlot));
   int slots = std::min({settings_.maxSlices, limits_.maxArrayTextureLayers, byMemory,
                         std::max(1, int(scene_.photos.size()))});
@@ -149,7 +151,14 @@ ibr::BlendSettings FrameBuilder::frameBlendSettings() {
   }
   // Region selection: the candidates are what is resident, so the slots bound them (and K stays
   // the most images blended at one pixel).
-  if (blend.selection == ibr::Selection::Region) blend.candidates = std::clamp(blend.candidates, 1, slots);
+  if (blend.selection == ibr::Selection::Region || blend.weighting == ibr::Weighting::Geometry)
+    blend.candidates = std::clamp(blend.candidates, 1, slots);
+  // Geometry weights keep the K + 1 best of each pixel in the shader's fixed arrays.
+  if (blend.weighting == ibr::Weighting::Geometry && blend.k > ibr::kMaxGeometryK) {
+    diag_.warn("K = " + std::to_string(blend.k) + " exceeds what the geometry weights blend at one pixel (" +
+               std::to_string(ibr::kMaxGeometryK) + "); using K = " + std::to_string(ibr::kMaxGeometryK));
+    blend.k = ibr::kMaxGeometryK;
+  }
   return blend;
 }
 

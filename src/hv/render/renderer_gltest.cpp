@@ -5,15 +5,15 @@
 #include "hv/gpu/shader_sources.h"
 #include "hv/ibr/reference_blend.h"
 #include "hv/ibr/slice_image.h"
+#include "hv/image/native/png_write.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/scene/native/raycast.h"
-#include "hv/image/native/png_write.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <set>
 #include <fstream>
+#include <set>
 
 namespace hv::render {
 namespace {
@@ -57,7 +57,7 @@ class RendererGlTest : public ::testing::Test {
     if (params.size() != expectedImages) return 0;
     // The plan's weights: f(d_i) in region selection, and eq. 2 with no K+1-th candidate in global.
     const bool region = settings.blend.selection == ibr::Selection::Region;
-    if (region || renderer.lastPlan().nextDistance < 0.0)
+    if (region || settings.blend.weighting == ibr::Weighting::Geometry || renderer.lastPlan().nextDistance < 0.0)
       for (const auto& im : renderer.lastPlan().images)
         EXPECT_NEAR(im.weight, 1.0 / (25.0 + im.distance * im.distance), 1e-12);
 
@@ -66,15 +66,35 @@ class RendererGlTest : public ::testing::Test {
     all.append(scene.buildings);
     RayCaster caster(all);
     std::vector<Image8> slices;
+    std::vector<std::vector<Image8>> chains;
     for (const auto& p : scene.photos) {
-      slices.push_back(ibr::makeSliceImage(p.camera, readImage(p.imagePath), {}, renderer.sliceSize(), p.camera.id));
+      const Image8 mask = p.maskPath.empty() || !settings.blend.masks ? Image8{} : readImage(p.maskPath, 1);
+      slices.push_back(ibr::makeSliceImage(p.camera, readImage(p.imagePath), mask, renderer.sliceSize(), p.camera.id));
+      chains.push_back(ibr::sliceMipChain(slices.back()));
     }
-    ibr::TextureLookup tex = [&](int slice, glm::dvec2 uv) {
+    auto photoOfSlice = [&](int slice) {
       for (const auto& p : params)
-        if (p.layout.slice == slice) return ibr::sampleBilinear(slices[size_t(p.photo)], uv);
+        if (p.layout.slice == slice) return size_t(p.photo);
       ADD_FAILURE() << "unknown slice";
-      return glm::dvec4(0.0);
+      return size_t(0);
     };
+    ibr::TextureLookup tex = [&](int slice, glm::dvec2 uv) {
+      return ibr::sampleBilinear(slices[photoOfSlice(slice)], uv);
+    };
+    // The geometry weights and feathering, as the shader gets them (the normal: the ray cast's).
+    ibr::BlendOptions opt;
+    const ibr::BlendSettings& b = settings.blend;
+    opt.weighting = b.weighting;
+    opt.resolutionWeight = b.resolutionWeight;
+    opt.penaltyEpsilon = b.penaltyEpsilon;
+    opt.featherPx = b.featherPx;
+    opt.viewCenter = view.center - scene.origin;
+    opt.viewFocal = 0.5 * (view.focal.x + view.focal.y);
+    opt.sliceWidth = renderer.sliceSize().width;
+    if (b.featherPx > 0.0 && b.masks)
+      opt.mask = [&](int slice, glm::dvec2 uv, double lod) {
+        return ibr::sampleTrilinear(chains[photoOfSlice(slice)], uv, lod).a;
+      };
     // A point's visibility from image i is "robust" when the ray casts at +-2 image pixels around its
     // projection agree; pixels near an occlusion edge (where a 512^2 depth map and an exact ray cast
     // may legitimately differ) are not compared.
@@ -125,8 +145,9 @@ class RendererGlTest : public ::testing::Test {
         }
         if (!flat) continue;
         robust = true;
+        opt.normal = hit->normal;
         const ibr::BlendResult ref = ibr::referenceBlend(hit->position - scene.origin, params, ibr::BlendMethod::Blend,
-                                                         tex, visible, settings.blend.selection, settings.blend.k);
+                                                         tex, visible, settings.blend.selection, settings.blend.k, opt);
         if (!robust) continue;
         const std::uint8_t* g = out.rgba.px(x, y);
         EXPECT_EQ(g[3] > 0, ref.covered()) << "coverage differs at " << x << "," << y;
@@ -228,6 +249,93 @@ TEST_F(RendererGlTest, RegionSelectionMatchesCpuReferenceAtSampledPixels) {
   // With tile culling off the loop visits every candidate in the same order: the same picture.
   settings.tileCulling = false;
   compareWithReference(scene, settings, view, 5);
+}
+
+// Geometry weights (best K per pixel by penalty) and feathering (borders and, through the slices'
+// mip levels, masks) against the CPU reference, alone and together, in both selections.
+TEST_F(RendererGlTest, GeometryWeightsAndFeatheringMatchCpuReference) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
+           testing::patternImage(160, 120, 1));
+  Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
+  LensDistortion d;
+  d.center = {101.0, 74.0};
+  d.c3 = -4e-6;
+  d.r2max = 110.0 * 110.0;  // the lens domain cuts the corners: its edge is feathered too
+  b.distortion = d;
+  addPhoto(scene, b, testing::patternImage(200, 150, 2));
+  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
+           testing::patternImage(120, 120, 3));
+  // A mask with a hole in the middle of d.
+  Image8 mask(160, 120, 1, 255);
+  for (int y = 40; y < 80; ++y)
+    for (int x = 50; x < 110; ++x) mask.at(x, y, 0) = 0;
+  addPhoto(scene, testing::lookAt("d", o + glm::dvec3(-14, -4, 2.5), o + glm::dvec3(0, 32, 9), 160, 120, 110),
+           testing::patternImage(160, 120, 4), &mask);
+  addPhoto(scene, testing::lookAt("e", o + glm::dvec3(0, -20, 4), o + glm::dvec3(0, 32, 9), 160, 120, 120),
+           testing::patternImage(160, 120, 5));
+  RenderSettings settings;
+  settings.blend.k = 2;
+  settings.blend.sigma = 5.0;
+  settings.depthSize = 512;
+  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  settings.blend.weighting = ibr::Weighting::Geometry;
+  compareWithReference(scene, settings, view, 5);
+  settings.blend.k = 3;
+  settings.blend.resolutionWeight = 2.0;
+  compareWithReference(scene, settings, view, 5);
+  settings.blend.weighting = ibr::Weighting::Distance;
+  settings.blend.featherPx = 12.0;
+  settings.blend.k = 5;
+  compareWithReference(scene, settings, view, 5);
+  settings.blend.weighting = ibr::Weighting::Geometry;
+  settings.blend.k = 2;
+  compareWithReference(scene, settings, view, 5);
+  settings.blend.selection = ibr::Selection::Region;
+  compareWithReference(scene, settings, view, 5);
+  settings.blend.weighting = ibr::Weighting::Distance;
+  compareWithReference(scene, settings, view, 5);
+}
+
+// Mipmaps: a photograph of a one-pixel checkerboard seen from its own centre at a quarter of its
+// resolution. Each view pixel covers 4.3 x 4.3 photograph pixels (not a whole number, so level 0
+// samples every phase of the checker), whose mean (the CPU truth) is grey; level 0 aliases, the
+// mip level from the footprint does not.
+TEST_F(RendererGlTest, MipmapsFilterMinifiedPhotographs) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  Image8 checker(160, 120, 3, 0);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c) checker.at(x, y, c) = (x + y) % 2 ? 255 : 0;
+  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130), checker);
+  const Camera view = testing::lookAt("v", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 37, 28, 130.0 / 4.3);
+  RenderSettings settings;
+  settings.blend.k = 1;
+  settings.depthSize = 512;
+  settings.untextured.sky = false;
+  auto error = [&](bool mipmaps) {
+    settings.blend.mipmaps = mipmaps;
+    Diagnostics diag;
+    Renderer renderer(scene, settings, diag);
+    const RenderOutput out = renderer.render(view);
+    double sum = 0.0;
+    int n = 0;
+    // Away from the photograph's border, where the footprint straddles the padding.
+    for (int y = 2; y < view.height - 2; ++y)
+      for (int x = 2; x < view.width - 2; ++x) {
+        const std::uint8_t* g = out.rgba.px(x, y);
+        if (g[3] == 0) continue;
+        sum += std::abs(g[0] - 127.5);
+        ++n;
+      }
+    EXPECT_GT(n, 500);
+    return n > 0 ? sum / n : 1e9;
+  };
+  const double level0 = error(false), mipmapped = error(true);
+  EXPECT_LT(mipmapped, 8.0) << "level 0: " << level0;
+  EXPECT_GT(level0, 4.0 * mipmapped);
 }
 
 TEST_F(RendererGlTest, OccludedFacadeGetsNoPixelsFromThePhotograph) {

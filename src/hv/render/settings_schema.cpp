@@ -174,6 +174,30 @@ std::vector<Setting> makeSchema() {
   t.push_back(field("sigma", blend, "sigma of the weight f(d) = 1/(sigma^2 + d^2); auto: the median spacing of the "
                     "camera centres", [](auto& s) -> auto& { return s.blend.sigma; })
                   .unit("scene units").above(0).atMost(1e7).slider(0.01, 100, true).autoDefault());
+  // Buehler et al. 2001's penalties, our formulation (docs/design.md, "Weights that know geometry").
+  t.push_back(choice("weights", blend, "distance: the papers' weights by camera-centre distance; geometry: per pixel "
+                     "the best K by the angle between the photograph's and the view's rays and the photograph's "
+                     "resolution on the surface (grazing incidence included), weights vanishing as an image leaves "
+                     "the best K (candidates: those of the selection; global, the --candidates nearest)",
+                     {"distance", "geometry"}, [](auto& s) -> auto& { return s.blend.weighting; }));
+  t.push_back(field("resolution-weight", blend, "weights geometry: radians of penalty per unit of ln(photograph texel "
+                    "footprint / view pixel footprint) where the photograph is the blurrier",
+                    [](auto& s) -> auto& { return s.blend.resolutionWeight; })
+                  .unit("rad").atLeast(0).atMost(100).slider(0, 4));
+  t.push_back(field("penalty-epsilon", blend, "weights geometry: f(p) = 1/(epsilon^2 + p^2) of the penalty p",
+                    [](auto& s) -> auto& { return s.blend.penaltyEpsilon; })
+                  .unit("rad").above(0).atMost(10).slider(0.001, 1, true));
+  t.push_back(field("feather", blend, "weights fall smoothly to 0 over this many photograph pixels toward each "
+                    "photograph's border, lens domain edge and mask edges; 0: hard edges (the papers')",
+                    [](auto& s) -> auto& { return s.blend.featherPx; })
+                  .unit("px").atLeast(0).atMost(1e4).slider(0, 256));
+  t.push_back(field("mipmaps", blend, "sample the photographs with mipmaps, the level from the projected footprint "
+                    "through the lens distortion (off: level 0, the papers')",
+                    [](auto& s) -> auto& { return s.blend.mipmaps; }));
+  t.push_back(field("anisotropy", blend, "mipmaps: the most anisotropic filtering (where the context has "
+                    "EXT_texture_filter_anisotropic); 1: none",
+                    [](auto& s) -> auto& { return s.blend.anisotropy; })
+                  .atLeast(1).atMost(64).slider(1, 16));
   t.push_back(choice("blend-method", blend, "blend the K photographs, or per pixel the nearest that passes the tests",
                      {"blend", "nearest"}, [](auto& s) -> auto& { return s.blend.method; }));
   t.push_back(field("occlusion", blend, "the depth-map (shadow) test: a photograph does not texture what it cannot see",

@@ -1,6 +1,7 @@
 #include "hv/render/gl/gl_backend.h"
 
 #include "hv/gpu/textures.h"
+#include "hv/ibr/slice_image.h"
 #include "hv/render/gl/programs.h"
 
 #include <algorithm>
@@ -131,7 +132,7 @@ void GlBackend::allocateSlots(const SlotLayout& layout) {
     checkGlError("naive slices");
     shadeProgram_ = ShadeProgram(programs().shade, n);
   } else {
-    imageArray_ = gpu::makeRgba8Array(w, h, n);
+    imageArray_ = gpu::makeRgba8Array(w, h, n, ibr::mipLevelCount(w, h));
     depthArray_ = gpu::makeDepthArray(layout.depthSize, n);
     checkGlError("slice arrays");
   }
@@ -144,8 +145,13 @@ void GlBackend::uploadImage(int slot, const Image8& slice) {
     glBindTexture(GL_TEXTURE_2D, naiveImages_[size_t(slot)].id());
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, slice.data.data());
   } else {
+    // Every level of the slice's chain (ibr::sliceMipChain): mipmaps and mask feathering read them.
     glBindTexture(GL_TEXTURE_2D_ARRAY, imageArray_.id());
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, slot, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, slice.data.data());
+    const std::vector<Image8> chain = ibr::sliceMipChain(slice);
+    for (size_t l = 1; l < chain.size(); ++l)
+      glTexSubImage3D(GL_TEXTURE_2D_ARRAY, GLint(l), 0, 0, slot, chain[l].width, chain[l].height, 1, GL_RGBA,
+                      GL_UNSIGNED_BYTE, chain[l].data.data());
   }
   checkGlError("image upload");
 }

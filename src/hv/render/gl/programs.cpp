@@ -111,6 +111,14 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   debugImage = u.required("u_debugImage");
   background = u.required("u_background");
   mode = u.required("u_mode");
+  weighting = tiles("u_weighting");
+  resolutionWeight = tiles("u_resolutionWeight");
+  penaltyEpsilon = tiles("u_penaltyEpsilon");
+  viewFocal = tiles("u_viewFocal");
+  feather = tiles("u_feather");
+  maskFeather = tiles("u_maskFeather");
+  mipmaps = tiles("u_mipmaps");
+  sliceWidth = tiles("u_sliceWidth");
   shading = u.required("u_shading");
   sky = u.required("u_sky");
   up = u.required("u_up");

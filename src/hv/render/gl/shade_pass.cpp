@@ -61,7 +61,24 @@ void GlBackend::bindShadeInputs(const Frame& f) {
     }
   } else {
     gpu::bindUnit(kUnitImages, GL_TEXTURE_2D_ARRAY, imageArray_.id());
+    // The slices' mip levels are read with mipmaps and by the mask feathering; anisotropic
+    // filtering (where the context has it) with mipmaps only.
+    const ibr::BlendSettings& b = f.blend;
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER,
+                    b.mipmaps || b.featherPx > 0.0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    const bool anisotropic = b.mipmaps && limits_.maxAnisotropy > 1.0f && b.anisotropy > 1.0;
+    if (limits_.maxAnisotropy > 0.0f)
+      glTexParameterf(GL_TEXTURE_2D_ARRAY, gpu::kGlTextureMaxAnisotropy,
+                      anisotropic ? std::clamp(float(b.anisotropy), 1.0f, limits_.maxAnisotropy) : 1.0f);
     gpu::bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray_.id());
+    glUniform1i(p.weighting, b.weighting == ibr::Weighting::Geometry ? 1 : 0);
+    glUniform1f(p.resolutionWeight, float(b.resolutionWeight));
+    glUniform1f(p.penaltyEpsilon, float(b.penaltyEpsilon));
+    glUniform1f(p.viewFocal, float(0.5 * (view.focal.x + view.focal.y)));
+    glUniform1f(p.feather, float(std::max(b.featherPx, 0.0)));
+    glUniform1i(p.maskFeather, b.featherPx > 0.0 && b.masks ? 1 : 0);
+    glUniform1i(p.mipmaps, !b.mipmaps ? 0 : anisotropic ? 2 : 1);
+    glUniform1f(p.sliceWidth, float(layout_.slice.width));
   }
   gpu::bindUnit(kUnitParams, GL_TEXTURE_2D, paramsTexture_.id());
   gpu::bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth_.id());
@@ -90,8 +107,7 @@ void GlBackend::bindShadeInputs(const Frame& f) {
   glUniform1i(p.tileSize, f.tileSize);
   glUniform1i(p.tilesX, tilesX_);
   glUniform2f(p.viewRectMin, float(vf.pxMin.x), float(vf.pxMin.y));
-  glUniform2f(p.viewRectInvSize, float(1.0 / (vf.pxMax.x - vf.pxMin.x)),
-              float(1.0 / (vf.pxMax.y - vf.pxMin.y)));
+  glUniform2f(p.viewRectInvSize, float(1.0 / (vf.pxMax.x - vf.pxMin.x)), float(1.0 / (vf.pxMax.y - vf.pxMin.y)));
   glUniform2i(p.viewDepthSize, f.rect.depthSize.x, f.rect.depthSize.y);
   glUniform1f(p.viewNear, float(vf.near));
   glUniform1f(p.viewFar, float(vf.far));
