@@ -60,9 +60,11 @@ struct BlendSettings {
   double featherPx = 0.0;
   // Photograph slices sampled with mipmaps, the level from the projected footprint (through the
   // lens distortion), and anisotropic filtering up to `anisotropy` where the context has it; off:
-  // level 0 (the papers').
+  // level 0 (the papers'). Anisotropy 1 by default: Mesa's software rasteriser filters each
+  // anisotropic sample in full (a demo view at 8 took minutes instead of seconds), and on the
+  // Sceaux photographs the isotropic level from the footprint's area scored as well.
   bool mipmaps = false;
-  double anisotropy = 8.0;
+  double anisotropy = 1.0;
   Selection selection = Selection::Global;
   // Region: how many photographs a frame may make resident and pass to the shader (also capped by
   // the image slots). Global ignores it.

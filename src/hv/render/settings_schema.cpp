@@ -195,7 +195,8 @@ std::vector<Setting> makeSchema() {
                     "through the lens distortion (off: level 0, the papers')",
                     [](auto& s) -> auto& { return s.blend.mipmaps; }));
   t.push_back(field("anisotropy", blend, "mipmaps: the most anisotropic filtering (where the context has "
-                    "EXT_texture_filter_anisotropic); 1: none",
+                    "EXT_texture_filter_anisotropic); 1: none (the default: software rasterisers filter every anisotropic "
+                    "sample in full)",
                     [](auto& s) -> auto& { return s.blend.anisotropy; })
                   .atLeast(1).atMost(64).slider(1, 16));
   t.push_back(choice("blend-method", blend, "blend the K photographs, or per pixel the nearest that passes the tests",
