@@ -279,6 +279,66 @@ run info-micmac info "$mm/scene.json"
 expect_out "info (micmac)" "Lambert-93 \\(EPSG:2154\\)"
 expect_out "info (micmac)" "cameras from .*EPSG:4978"
 
+# --- messages that help: a warning once per run, naming only real options
+HV_LOG=warn run kslots render "$city/scene.json" --views "$city/views.json" --out "$DIR/rkslots" --k 4 --size 160x120 \
+  --max-slices 2 --selection global
+expect_rc "render --max-slices 2" 0
+check "K capped by the slots: said once for ${#ids[@]} views" test "$(grep -c 'exceeds the image slots' "$out")" = 1
+expect_out "render --max-slices 2" "bounded by --max-slices 2\)"
+HV_LOG=warn run kphotos render "$city/scene.json" --views "$city/views.json" --out "$DIR/rkphotos" --k 20 --size 160x120 \
+  --selection global
+expect_rc "render --k 20 on 12 photographs" 0
+check "K above the photographs' count is no warning" bash -c "! grep -q 'exceeds the image slots' '$out'"
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+cams = json.load(open(f"{city}/cameras.json"))
+for i, c in enumerate(cams["cameras"]):
+    c["date"] = f"{1890 + i}-06-01"
+json.dump(cams, open(f"{city}/cameras-dated.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-dated.json"
+json.dump(scene, open(f"{city}/scene-dated.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["terain"] = scene.pop("terrain")
+json.dump(scene, open(f"{city}/scene-terain.json", "w"))
+PY
+run from1990 render "$city/scene-dated.json" --views "$city/views.json" --out "$DIR/rfrom" --size 160x120 --from 1990
+expect_rc "render --from 1990" 0
+expect_out "render --from 1990" "selects 0 of 12 photographs .*dates span 1890-06-01 \.\. 1901-06-01"
+run terain info "$city/scene-terain.json"
+expect_rc "info: scene.json with \"terain\"" 2
+expect_out "info: scene.json with \"terain\"" "unknown key 'terain' \(did you mean 'terrain'\?\)"
+# Every option a message names (a string literal of src/ or apps/ with --name) is one that some
+# --help lists.
+helps=$DIR/helps.txt
+"$HV" --help >"$helps" 2>&1
+subs() { sed -n '/^Subcommands:/,/^$/p' | awk 'NR > 1 && NF {print $1}'; }
+for sub in $("$HV" --help | subs); do
+  "$HV" "$sub" --help >>"$helps" 2>&1
+  for subsub in $("$HV" "$sub" --help | subs); do "$HV" "$sub" "$subsub" --help >>"$helps" 2>&1; done
+done
+check "every option named in the sources' messages is listed by some --help" \
+  python3 - "$(dirname "$0")/.." "$helps" <<'PY'
+import os, re, sys
+root, helps = sys.argv[1], open(sys.argv[2]).read()
+literal = re.compile(r'R"\((.*?)\)"|"((?:[^"\\\n]|\\.)*)"', re.S)
+option = re.compile(r'(?<![\w-])--([a-z][a-z0-9]*(?:-[a-z0-9]+)*)(?![\w-])')
+listed = set(re.findall(r'(?<![\w-])--([a-z](?:[a-z0-9-]*[a-z0-9])?)', helps))
+missing = []
+for top in ("src", "apps"):
+    for d, _, files in os.walk(os.path.join(root, top)):
+        for f in files:
+            if not f.endswith((".cpp", ".h")) or re.search(r"_(gl)?test\.cpp$", f):
+                continue
+            text = re.sub(r"(?m)^\s*//.*$", "", open(os.path.join(d, f), errors="replace").read())
+            for m in literal.finditer(text):
+                for name in option.findall(m.group(1) if m.group(1) is not None else m.group(2)):
+                    if name not in listed:
+                        missing.append(f"--{name} ({os.path.relpath(os.path.join(d, f), root)})")
+assert listed and not missing, "named in messages, listed by no --help: " + ", ".join(sorted(set(missing)))
+PY
+
 # --- settings: the README's table of render settings is the command's output (docs cannot
 # drift from the schema), and a render setting's bad value is refused naming it
 run settings settings --markdown
