@@ -1,6 +1,7 @@
 #include "hv/io/native/scene_loader.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/native/cityjson.h"
 #include "hv/io/native/colmap_cameras.h"
 #include "hv/io/native/footprints.h"
 #include "hv/scene/point_normals.h"
@@ -316,30 +317,50 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     try {
       const std::string p = sourcePath(doc, "buildings", dir, path);
       const json& b = doc["buildings"];
-      FootprintFields fields;
-      if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
-      fields.base = optionalString(b, "base", path + ": buildings");
-      fields.top = optionalString(b, "top", path + ": buildings");
-      fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
-      fields.validTo = optionalString(b, "valid_to", path + ": buildings");
-      GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
-      const std::vector<Footprint>& footprints = read.footprints;
-      recordSource(scene, "buildings", read.sourceCrs);
-      scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
-      for (const Footprint& f : footprints) {
-        DateInterval valid;  // open-ended unless the attributes say otherwise
-        auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
-          if (!text || text->empty()) return;
-          if (const auto d = parseDate(*text)) {
-            (from ? valid.first : valid.last) = from ? d->first : d->last;
-          } else {
-            diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
-                      "' (ignored)");
-          }
-        };
-        bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
-        bound(f.validTo, fields.validTo.value_or("valid_to"), false);
-        scene.buildingValidity.push_back(valid);
+      if (isCityJsonFile(p)) {
+        // 3D buildings as they are (LOD1 or LOD2 with their roofs): no footprint to extrude, so
+        // the footprint attributes have nothing to name.
+        for (const char* key : {"height", "base", "top", "valid_from", "valid_to"})
+          if (b.contains(key))
+            diag.warn(inputMessage(path, std::string("buildings.") + key,
+                                   "ignored: " + p + " is CityJSON, whose buildings are 3D already"));
+        CityJsonBuildings city = readCityJson(p, diag);
+        const SourceGeoref georef = sourceGeoref(doc, "buildings", scene.crs, path);
+        if (!scene.crs.empty()) {
+          const GeoTransform transform = sourceTransform(georef, sourceCrsOf(georef, city.crs), p, diag);
+          if (!transform.isIdentity()) transform.points(city.mesh.positions);
+        }
+        recordSource(scene, "buildings", georef.crs.empty() ? city.crs : georef.crs);
+        scene.buildings = std::move(city.mesh);
+        scene.buildingValidity.assign(city.ids.size(), DateInterval{});
+        log::debug("buildings: " + p + ": " + std::to_string(city.ids.size()) + " CityJSON buildings, " +
+                   std::to_string(scene.buildings.triangles.size()) + " triangles");
+      } else {
+        FootprintFields fields;
+        if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
+        fields.base = optionalString(b, "base", path + ": buildings");
+        fields.top = optionalString(b, "top", path + ": buildings");
+        fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
+        fields.validTo = optionalString(b, "valid_to", path + ": buildings");
+        GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
+        const std::vector<Footprint>& footprints = read.footprints;
+        recordSource(scene, "buildings", read.sourceCrs);
+        scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
+        for (const Footprint& f : footprints) {
+          DateInterval valid;  // open-ended unless the attributes say otherwise
+          auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
+            if (!text || text->empty()) return;
+            if (const auto d = parseDate(*text)) {
+              (from ? valid.first : valid.last) = from ? d->first : d->last;
+            } else {
+              diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
+                        "' (ignored)");
+            }
+          };
+          bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
+          bound(f.validTo, fields.validTo.value_or("valid_to"), false);
+          scene.buildingValidity.push_back(valid);
+        }
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (buildings left out)");
