@@ -339,6 +339,24 @@ for top in ("src", "apps"):
 assert listed and not missing, "named in messages, listed by no --help: " + ", ".join(sorted(set(missing)))
 PY
 
+# --- a ground plane instead of a DTM, and the hint for a scene with cameras but no geometry
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+scene = json.load(open(f"{city}/scene.json"))
+json.dump({"crs": scene["crs"], "terrain": {"height": 35}, "cameras": scene["cameras"]},
+          open(f"{city}/scene-ground.json", "w"))
+json.dump({"crs": scene["crs"], "cameras": scene["cameras"]}, open(f"{city}/scene-nogeometry.json", "w"))
+PY
+run ground info "$city/scene-ground.json"
+expect_rc "info: terrain.height" 0
+expect_out "info: terrain.height" "terrain +289 vertices, 512 triangles"
+expect_out "info: terrain.height" "a ground plane at height 35"
+expect_out "info: terrain.height" "hint .*projected onto the ground plane.*footprints"
+run nogeometry info "$city/scene-nogeometry.json"
+expect_rc "info: cameras alone" 0
+expect_out "info: cameras alone" "hint .*footprints.*\"terrain\": \{\"height\": H\} gives a ground plane"
+
 # --- settings: the README's table of render settings is the command's output (docs cannot
 # drift from the schema), and a render setting's bad value is refused naming it
 run settings settings --markdown
