@@ -357,6 +357,42 @@ run nogeometry info "$city/scene-nogeometry.json"
 expect_rc "info: cameras alone" 0
 expect_out "info: cameras alone" "hint .*footprints.*\"terrain\": \{\"height\": H\} gives a ground plane"
 
+# --- init: a folder of data to a scene.json (here the demo city's files), refusing to overwrite
+own=$DIR/own
+mkdir -p "$own"
+cp -r "$city/images" "$city/masks" "$city/cameras.json" "$city/views.json" "$city/dtm.tif" "$city/buildings.geojson" \
+  "$city/points.las" "$own/"
+run init init "$own"
+expect_rc "init" 0
+expect_out "init" "cameras +cameras.json \(histoview's own format, 12 cameras\)"
+expect_out "init" "buildings +buildings.geojson \(8 footprints, height from the 'height' attribute"
+expect_out "init" "crs +EPSG:2154|crs +.*Lambert"
+check "init wrote the scene of the demo's own scene.json" python3 - "$own/scene.json" "$city/scene.json" <<'PY'
+import json, sys
+got, want = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+for key in ("terrain", "points", "cameras"):
+    assert got[key] == want[key], (key, got.get(key), want[key])
+assert got["buildings"]["path"] == want["buildings"]["path"] and got["buildings"]["height"] == "height", got
+PY
+run init-info info "$own/scene.json"
+expect_rc "info on the scene init wrote" 0
+expect_out "info on the scene init wrote" "photos +12"
+expect_out "info on the scene init wrote" "buildings +[1-9][0-9]* triangles"
+run init-again init "$own"
+expect_rc "init over an existing scene.json" 1
+expect_out "init over an existing scene.json" "exists; --force overwrites it"
+run init-force init "$own" --force
+expect_rc "init --force" 0
+# The real data, when there: a scene written elsewhere (the data folders are read-only) loads.
+data=${HISTOVIEW_DATA:-$(dirname "$0")/../../shared/data}
+for set in delft paris-historical-micmac sceaux paris-stereopolis autzen; do
+  [[ -d $data/$set ]] || continue
+  run "init-$set" init "$data/$set" -o "$DIR/init-$set/scene.json"
+  expect_rc "init $set" 0
+  run "init-$set-info" info "$DIR/init-$set/scene.json"
+  expect_rc "info on the scene init wrote for $set" 0
+done
+
 # --- settings: the README's table of render settings is the command's output (docs cannot
 # drift from the schema), and a render setting's bad value is refused naming it
 run settings settings --markdown
