@@ -279,6 +279,120 @@ run info-micmac info "$mm/scene.json"
 expect_out "info (micmac)" "Lambert-93 \\(EPSG:2154\\)"
 expect_out "info (micmac)" "cameras from .*EPSG:4978"
 
+# --- messages that help: a warning once per run, naming only real options
+HV_LOG=warn run kslots render "$city/scene.json" --views "$city/views.json" --out "$DIR/rkslots" --k 4 --size 160x120 \
+  --max-slices 2 --selection global
+expect_rc "render --max-slices 2" 0
+check "K capped by the slots: said once for ${#ids[@]} views" test "$(grep -c 'exceeds the image slots' "$out")" = 1
+expect_out "render --max-slices 2" "bounded by --max-slices 2\)"
+HV_LOG=warn run kphotos render "$city/scene.json" --views "$city/views.json" --out "$DIR/rkphotos" --k 20 --size 160x120 \
+  --selection global
+expect_rc "render --k 20 on 12 photographs" 0
+check "K above the photographs' count is no warning" bash -c "! grep -q 'exceeds the image slots' '$out'"
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+cams = json.load(open(f"{city}/cameras.json"))
+for i, c in enumerate(cams["cameras"]):
+    c["date"] = f"{1890 + i}-06-01"
+json.dump(cams, open(f"{city}/cameras-dated.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["cameras"]["path"] = "cameras-dated.json"
+json.dump(scene, open(f"{city}/scene-dated.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["terain"] = scene.pop("terrain")
+json.dump(scene, open(f"{city}/scene-terain.json", "w"))
+PY
+run from1990 render "$city/scene-dated.json" --views "$city/views.json" --out "$DIR/rfrom" --size 160x120 --from 1990
+expect_rc "render --from 1990" 0
+expect_out "render --from 1990" "selects 0 of 12 photographs .*dates span 1890-06-01 \.\. 1901-06-01"
+run terain info "$city/scene-terain.json"
+expect_rc "info: scene.json with \"terain\"" 2
+expect_out "info: scene.json with \"terain\"" "unknown key 'terain' \(did you mean 'terrain'\?\)"
+# Every option a message names (a string literal of src/ or apps/ with --name) is one that some
+# --help lists.
+helps=$DIR/helps.txt
+"$HV" --help >"$helps" 2>&1
+subs() { sed -n '/^Subcommands:/,/^$/p' | awk 'NR > 1 && NF {print $1}'; }
+for sub in $("$HV" --help | subs); do
+  "$HV" "$sub" --help >>"$helps" 2>&1
+  for subsub in $("$HV" "$sub" --help | subs); do "$HV" "$sub" "$subsub" --help >>"$helps" 2>&1; done
+done
+check "every option named in the sources' messages is listed by some --help" \
+  python3 - "$(dirname "$0")/.." "$helps" <<'PY'
+import os, re, sys
+root, helps = sys.argv[1], open(sys.argv[2]).read()
+literal = re.compile(r'R"\((.*?)\)"|"((?:[^"\\\n]|\\.)*)"', re.S)
+option = re.compile(r'(?<![\w-])--([a-z][a-z0-9]*(?:-[a-z0-9]+)*)(?![\w-])')
+listed = set(re.findall(r'(?<![\w-])--([a-z](?:[a-z0-9-]*[a-z0-9])?)', helps))
+missing = []
+for top in ("src", "apps"):
+    for d, _, files in os.walk(os.path.join(root, top)):
+        for f in files:
+            if not f.endswith((".cpp", ".h")) or re.search(r"_(gl)?test\.cpp$", f):
+                continue
+            text = re.sub(r"(?m)^\s*//.*$", "", open(os.path.join(d, f), errors="replace").read())
+            for m in literal.finditer(text):
+                for name in option.findall(m.group(1) if m.group(1) is not None else m.group(2)):
+                    if name not in listed:
+                        missing.append(f"--{name} ({os.path.relpath(os.path.join(d, f), root)})")
+assert listed and not missing, "named in messages, listed by no --help: " + ", ".join(sorted(set(missing)))
+PY
+
+# --- a ground plane instead of a DTM, and the hint for a scene with cameras but no geometry
+python3 - "$city" <<'PY'
+import json, sys
+city = sys.argv[1]
+scene = json.load(open(f"{city}/scene.json"))
+json.dump({"crs": scene["crs"], "terrain": {"height": 35}, "cameras": scene["cameras"]},
+          open(f"{city}/scene-ground.json", "w"))
+json.dump({"crs": scene["crs"], "cameras": scene["cameras"]}, open(f"{city}/scene-nogeometry.json", "w"))
+PY
+run ground info "$city/scene-ground.json"
+expect_rc "info: terrain.height" 0
+expect_out "info: terrain.height" "terrain +289 vertices, 512 triangles"
+expect_out "info: terrain.height" "a ground plane at height 35"
+expect_out "info: terrain.height" "hint .*projected onto the ground plane.*footprints"
+run nogeometry info "$city/scene-nogeometry.json"
+expect_rc "info: cameras alone" 0
+expect_out "info: cameras alone" "hint .*footprints.*\"terrain\": \{\"height\": H\} gives a ground plane"
+
+# --- init: a folder of data to a scene.json (here the demo city's files), refusing to overwrite
+own=$DIR/own
+mkdir -p "$own"
+cp -r "$city/images" "$city/masks" "$city/cameras.json" "$city/views.json" "$city/dtm.tif" "$city/buildings.geojson" \
+  "$city/points.las" "$own/"
+run init init "$own"
+expect_rc "init" 0
+expect_out "init" "cameras +cameras.json \(histoview's own format, 12 cameras\)"
+expect_out "init" "buildings +buildings.geojson \(8 footprints, height from the 'height' attribute"
+expect_out "init" "crs +EPSG:2154|crs +.*Lambert"
+check "init wrote the scene of the demo's own scene.json" python3 - "$own/scene.json" "$city/scene.json" <<'PY'
+import json, sys
+got, want = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+for key in ("terrain", "points", "cameras"):
+    assert got[key] == want[key], (key, got.get(key), want[key])
+assert got["buildings"]["path"] == want["buildings"]["path"] and got["buildings"]["height"] == "height", got
+PY
+run init-info info "$own/scene.json"
+expect_rc "info on the scene init wrote" 0
+expect_out "info on the scene init wrote" "photos +12"
+expect_out "info on the scene init wrote" "buildings +[1-9][0-9]* triangles"
+run init-again init "$own"
+expect_rc "init over an existing scene.json" 1
+expect_out "init over an existing scene.json" "exists; --force overwrites it"
+run init-force init "$own" --force
+expect_rc "init --force" 0
+# The real data, when there: a scene written elsewhere (the data folders are read-only) loads.
+data=${HISTOVIEW_DATA:-$(dirname "$0")/../../shared/data}
+for set in delft paris-historical-micmac sceaux paris-stereopolis autzen; do
+  [[ -d $data/$set ]] || continue
+  run "init-$set" init "$data/$set" -o "$DIR/init-$set/scene.json"
+  expect_rc "init $set" 0
+  run "init-$set-info" info "$DIR/init-$set/scene.json"
+  expect_rc "info on the scene init wrote for $set" 0
+done
+
 # --- settings: the README's table of render settings is the command's output (docs cannot
 # drift from the schema), and a render setting's bad value is refused naming it
 run settings settings --markdown

@@ -3,6 +3,7 @@
 #include "hv/app/cameras_command.h"
 #include "hv/app/check_command.h"
 #include "hv/app/demo_command.h"
+#include "hv/app/init_command.h"
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
 #include "hv/session/outputs.h"
@@ -22,6 +23,7 @@ int g_exit = 0;
 
 void registerCommands(CLI::App& app) {
   app.footer(exitStatusHelp());
+  addInitCommand(app, g_exit);
   addInfoCommand(app, g_exit);
   addCheckCommand(app, g_exit);
   addRenderCommand(app, g_exit);

@@ -11,12 +11,15 @@
 #include "hv/image/native/png_write.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
 #include <new>
+#include <optional>
 #include <sstream>
 
 namespace hv::app {
@@ -75,6 +78,16 @@ int runInfo(const std::string& scenePath) {
   return kExitNotProduced;
 }
 
+// scene.json's `terrain.height` (a ground plane instead of a DTM), when it has one.
+std::optional<double> groundPlaneHeight(const std::string& scenePath) {
+  std::ifstream in(scenePath);
+  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
+  if (doc.is_object() && doc.contains("terrain") && doc["terrain"].is_object() &&
+      doc["terrain"].contains("height") && doc["terrain"]["height"].is_number())
+    return doc["terrain"]["height"].get<double>();
+  return std::nullopt;
+}
+
 int printInfo(const std::string& scenePath, const Scene& scene, const CheckReport& report) {
   std::cout << report.text();
   std::cout << "scene      " << scenePath << "\n";
@@ -104,6 +117,8 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
               << t.triangleBudget << " triangles" << (t.budgetLimited ? ", reached" : "") << "); levels read from "
               << t.reads << "\n";
   }
+  const std::optional<double> ground = groundPlaneHeight(scenePath);
+  if (ground) std::cout << "  a ground plane at height " << *ground << " (terrain.height), no DTM\n";
   std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
   std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()
             << " triangles\n";
@@ -120,6 +135,13 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   }
   for (const auto& [s, n] : sizes) std::cout << "  " << std::setw(5) << n << " x " << s << "\n";
   std::cout << "  distorted " << distorted << ", masked " << masked << ", dated " << dated << "\n";
+  if (!scene.photos.empty() && scene.buildings.empty() && scene.mesh.empty() && scene.points.empty())
+    std::cout << "hint       no buildings, mesh or points: the photographs are projected onto "
+              << (scene.terrain.empty() ? "nothing but the sky" : ground ? "the ground plane" : "the terrain")
+              << " alone, so every facade smears across the ground. Building footprints (scene.json \"buildings\": "
+                 "outlines with heights, GeoJSON or any OGR format, or CityJSON) would improve the result a lot"
+              << (scene.terrain.empty() ? "; without them, \"terrain\": {\"height\": H} gives a ground plane" : "")
+              << "\n";
   try {
     auto ctx = gpu::createHeadlessContext();
     const auto l = gpu::queryLimits();

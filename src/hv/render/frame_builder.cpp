@@ -63,8 +63,23 @@ void FrameBuilder::allocateSlots() {
   int slots = std::min({settings_.maxSlices, limits_.maxArrayTextureLayers, byMemory,
                         std::max(1, int(scene_.photos.size()))});
   slots = std::max(slots, 1);
+  // What binds the slots, for the warning when K is capped by it: only the bounds that hold
+  // (the photographs' own count is no bound worth a word), each under the name the user can act on.
+  std::vector<std::string> bounds;
+  if (settings_.maxSlices == slots) bounds.push_back("--max-slices " + std::to_string(settings_.maxSlices));
+  if (limits_.maxArrayTextureLayers == slots)
+    bounds.push_back("MAX_ARRAY_TEXTURE_LAYERS = " + std::to_string(limits_.maxArrayTextureLayers));
+  if (byMemory == slots)
+    bounds.push_back("--memory-budget " + std::to_string(settings_.memoryBudgetBytes >> 20) + " MiB");
   // The naive binding: two units per image; the shader's chain has 16 entries at most.
-  if (naive()) slots = std::min(slots, std::min(16, limits_.naiveImageUnits / 2));
+  if (naive() && slots > std::min(16, limits_.naiveImageUnits / 2)) {
+    slots = std::min(16, limits_.naiveImageUnits / 2);
+    bounds = {"MAX_TEXTURE_IMAGE_UNITS = " + std::to_string(limits_.maxTextureImageUnits) +
+              " with --binding naive: two units per image, " + std::to_string(limits_.shadingUnits) +
+              " for the pass itself"};
+  }
+  slotBound_.clear();
+  for (const std::string& b : bounds) slotBound_ += (slotBound_.empty() ? "" : ", ") + b;
   layout_.slots = slots;
   layout_.binding = settings_.binding;
   cache_ = ibr::SlotCache(slots);
@@ -139,14 +154,13 @@ ibr::BlendSettings FrameBuilder::frameBlendSettings() {
   ibr::BlendSettings blend = settings_.blend;
   const int slots = layout_.slots;
   if (blend.k > slots && blend.selection == ibr::Selection::Global) {
-    const std::string bound =
-        naive() ? "MAX_TEXTURE_IMAGE_UNITS = " + std::to_string(limits_.maxTextureImageUnits) +
-                      " with the naive binding: two units per image, " + std::to_string(limits_.shadingUnits) +
-                      " for the pass itself"
-                : "MAX_ARRAY_TEXTURE_LAYERS = " + std::to_string(limits_.maxArrayTextureLayers) +
-                      ", --max-slices and the memory budget";
-    diag_.warn("K = " + std::to_string(blend.k) + " exceeds the image slots available (" + std::to_string(slots) +
-               ", bounded by " + bound + "); using K = " + std::to_string(slots));
+    // K at or above the photographs' count is no loss: every photograph has a slot. Otherwise it
+    // is said once for this builder (and the log prints a message once per run).
+    if (std::min(blend.k, int(scene_.photos.size())) > slots && !warnedK_ && !slotBound_.empty()) {
+      diag_.warn("K = " + std::to_string(blend.k) + " exceeds the image slots available (" + std::to_string(slots) +
+                 ", bounded by " + slotBound_ + "); using K = " + std::to_string(slots));
+      warnedK_ = true;
+    }
     blend.k = slots;
   }
   // Region selection: the candidates are what is resident, so the slots bound them (and K stays

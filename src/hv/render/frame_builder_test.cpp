@@ -269,6 +269,27 @@ TEST_F(FrameBuilderTest, KBeyondTheSlotsIsCappedAndSaid) {
   EXPECT_NE(diag_.warnings.front().find("exceeds the image slots available (4"), std::string::npos);
 }
 
+TEST_F(FrameBuilderTest, KCappedIsSaidOnceNamingWhatBoundsTheSlots) {
+  settings_.maxSlices = 4;
+  settings_.blend.selection = ibr::Selection::Global;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  for (int i = 0; i < 3; ++i) builder.build(view(), FrameMode::Batch, false);
+  ASSERT_EQ(diag_.warnings.size(), 1u);
+  EXPECT_NE(diag_.warnings.front().find("bounded by --max-slices 4)"), std::string::npos) << diag_.warnings.front();
+  EXPECT_EQ(diag_.warnings.front().find("MAX_ARRAY_TEXTURE_LAYERS"), std::string::npos) << diag_.warnings.front();
+}
+
+TEST_F(FrameBuilderTest, KAboveThePhotographsIsNoWarning) {
+  // Every photograph has a slot: a K above their count loses nothing.
+  settings_.blend.selection = ibr::Selection::Global;
+  settings_.blend.k = kPhotos + 5;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  EXPECT_EQ(backend_.layout().slots, kPhotos);
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(f.blend.k, kPhotos);
+  EXPECT_TRUE(diag_.warnings.empty()) << diag_.warnings.front();
+}
+
 TEST_F(FrameBuilderTest, RegionCandidatesAreCappedByTheSlotsAndKKeepsItsMeaning) {
   settings_.maxSlices = 4;
   settings_.blend.selection = ibr::Selection::Region;

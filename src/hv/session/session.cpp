@@ -242,6 +242,35 @@ void checkSessionInputs(const Scene& scene, const ViewOptions& o, Diagnostics& d
     }
   }
   for (const std::string& outlier : robustExtent(scene).outliers) warn(scene.path + ": " + outlier);
+  if (const std::string window = timeWindowSelection(scene, renderSettings(o).blend); !window.empty()) warn(window);
+}
+
+std::string timeWindowSelection(const Scene& scene, const ibr::BlendSettings& blend) {
+  if ((!blend.window && !blend.datedOnly) || scene.photos.empty()) return "";
+  int selected = 0, undated = 0;
+  std::optional<DateInterval> span;
+  for (const Photo& p : scene.photos) {
+    const std::optional<DateInterval> when = p.date.empty() ? std::nullopt : parseDate(p.date);
+    if (!when) {
+      ++undated;
+      if (!blend.datedOnly) ++selected;  // as ibr::planFrame: undated photographs pass the window
+      continue;
+    }
+    span = span ? DateInterval{std::min(span->first, when->first), std::max(span->last, when->last)} : *when;
+    if (!blend.window || overlaps(*when, *blend.window)) ++selected;
+  }
+  if (selected > 0) return "";
+  auto end = [](std::int64_t day, bool open) { return open ? std::string("open") : formatDay(day); };
+  std::string what = blend.window ? "the time window " +
+                                        end(blend.window->first, blend.window->first == DateInterval{}.first) +
+                                        " .. " + end(blend.window->last, blend.window->last == DateInterval{}.last)
+                                  : std::string("the time window");
+  if (blend.datedOnly) what += " with --dated-only";
+  std::string dates = span ? "the photographs' dates span " + formatDay(span->first) + " .. " + formatDay(span->last)
+                           : std::string("no photograph has a date");
+  if (undated > 0 && span) dates += ", " + std::to_string(undated) + " undated";
+  return what + " (--from/--to) selects 0 of " + std::to_string(scene.photos.size()) + " photographs of " +
+         scene.path + " (" + dates + "): the views show the geometry untextured";
 }
 
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,

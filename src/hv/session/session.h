@@ -63,6 +63,10 @@ void checkPhotoDates(const Scene& scene, Diagnostics& diag);
 // (hv/scene/robust_extent.h, left out of the origin and the depth ranges).
 void checkSessionInputs(const Scene& scene, const ViewOptions& o, Diagnostics& diag);
 
+// When the time window (--from/--to, --dated-only) selects no photograph of the scene: a message
+// saying so, with the span of the photographs' dates; "" otherwise (also without a window).
+std::string timeWindowSelection(const Scene& scene, const ibr::BlendSettings& blend);
+
 // The view camera at the requested output size: intrinsics scaled uniformly; a different aspect
 // ratio is an error (std::invalid_argument naming the view).
 Camera resizeView(const Camera& view, const std::string& size);

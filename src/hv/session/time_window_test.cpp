@@ -94,6 +94,28 @@ TEST_F(TimeWindowPlan, SelectionAndWeightsApplyWithinTheWindow) {
   EXPECT_NEAR(plan_.images[0].weight, 1.0 / (1.0 + 4.0) - 1.0 / (1.0 + 9.0), 1e-15);
 }
 
+// A window that keeps nothing is said, with the span of the dates (the undated photographs pass a
+// window, so only --dated-only can leave a scene with undated ones empty).
+TEST_F(TimeWindowPlan, AWindowSelectingNoPhotographIsSaidWithTheDatesSpan) {
+  scene_.path = "scene.json";
+  ibr::BlendSettings blend;
+  blend.window = app::timeWindow("1990", "");
+  EXPECT_EQ(app::timeWindowSelection(scene_, blend), "");  // the two undated photographs pass
+  blend.datedOnly = true;
+  EXPECT_EQ(app::timeWindowSelection(scene_, blend),
+            "the time window 1990-01-01 .. open with --dated-only (--from/--to) selects 0 of 6 photographs of "
+            "scene.json (the photographs' dates span 1900-05-01 .. 1910-03-31, 2 undated): the views show the "
+            "geometry untextured");
+  blend.window = app::timeWindow("1905", "1905");
+  EXPECT_EQ(app::timeWindowSelection(scene_, blend), "");
+  scene_.photos.erase(scene_.photos.begin(), scene_.photos.begin() + 2);  // the undated ones
+  blend.datedOnly = false;
+  blend.window = app::timeWindow("", "1899");
+  EXPECT_EQ(app::timeWindowSelection(scene_, blend),
+            "the time window open .. 1899-12-31 (--from/--to) selects 0 of 4 photographs of scene.json (the "
+            "photographs' dates span 1900-05-01 .. 1910-03-31): the views show the geometry untextured");
+}
+
 TEST(TimeWindowOptions, FromAndToMakeOneClosedInterval) {
   EXPECT_FALSE(app::timeWindow("", "").has_value());
   const auto w = app::timeWindow("1905-06", "1910");

@@ -1,5 +1,6 @@
 #include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
+#include "hv/util/log.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +9,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <sstream>
 
 namespace hv {
 namespace {
@@ -93,6 +96,26 @@ TEST(ClosestName, SuggestsNearKeysOnly) {
   EXPECT_EQ(closestName("Centre", keys), "center");
   EXPECT_EQ(closestName("colour", keys), "");
   EXPECT_EQ(closestName("", keys), "");
+}
+
+// A warning met on every view (K capped by the slots) is printed once per run; a different
+// message still is.
+TEST(Log, EachDistinctWarningIsPrintedOnce) {
+  const log::Level before = log::level();
+  log::setLevel(log::Level::Warn);
+  std::ostringstream captured;
+  std::streambuf* old = std::cerr.rdbuf(captured.rdbuf());
+  Diagnostics diag;
+  for (int view = 0; view < 3; ++view) diag.warn("log test: the same cause on every view");
+  diag.warn("log test: another cause");
+  diag.error("log test: the same cause on every view");  // an error is not the warning
+  std::cerr.rdbuf(old);
+  log::setLevel(before);
+  EXPECT_EQ(captured.str(),
+            "warning: log test: the same cause on every view\n"
+            "warning: log test: another cause\n"
+            "error: log test: the same cause on every view\n");
+  EXPECT_EQ(diag.warnings.size(), 4u);  // the record keeps every occurrence
 }
 
 }  // namespace

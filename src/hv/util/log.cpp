@@ -5,6 +5,7 @@
 #include <cstring>
 #include <iostream>
 #include <mutex>
+#include <set>
 
 namespace hv::log {
 namespace {
@@ -24,10 +25,14 @@ std::atomic<Level>& current() {
   return l;
 }
 
+// Warnings and errors are printed once per run (each distinct message): a cause met again on every view or frame (a capped
+// K, a photograph that will not decode) would otherwise bury the rest of the output.
 void emit(Level l, const char* tag, const std::string& message) {
   if (l < current().load()) return;
   static std::mutex m;
+  static std::set<std::string> printed;
   std::lock_guard lock(m);
+  if (l >= Level::Warn && !printed.insert(std::string(tag) + message).second) return;
   std::cerr << tag << message << '\n';
 }
 

@@ -1,6 +1,7 @@
 #include "hv/io/native/scene_loader.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/native/cityjson.h"
 #include "hv/io/native/colmap_cameras.h"
 #include "hv/io/native/footprints.h"
 #include "hv/scene/point_normals.h"
@@ -180,7 +181,7 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
   static const std::vector<std::string> kTop = {"crs",       "origin", "up",     "terrain",
                                                 "buildings", "mesh",   "points", "cameras"};
   static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
-      {"terrain", {"path", "crs"}},
+      {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
       {"mesh", {"path", "crs"}},
       {"points", {"path", "crs", "normals"}},
@@ -236,6 +237,90 @@ void meshTerrainTiles(Scene& scene) {
              " tiles read, " + std::to_string(s) + " s");
 }
 
+// A heightfield of one elevation over any footprint (±1e8 m around the origin): the buildings'
+// base on a ground plane, as on a DTM.
+Heightfield constantHeightfield(double height) {
+  Heightfield h;
+  h.cols = h.rows = 2;
+  h.originX = -2e8;
+  h.originY = 2e8;
+  h.cellX = 2e8;
+  h.cellY = -2e8;  // samples at ±1e8
+  h.z.assign(4, float(height));
+  return h;
+}
+
+// WGS 84 geodetic (latitude, longitude in radians, ellipsoidal height) to ECEF, and the inverse
+// (Bowring's formula, one iteration: well under a millimetre near the surface).
+glm::dvec3 ecefFromGeodetic(double lat, double lon, double h) {
+  constexpr double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2.0 - f);
+  const double n = a / std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
+  return {(n + h) * std::cos(lat) * std::cos(lon), (n + h) * std::cos(lat) * std::sin(lon),
+          (n * (1.0 - e2) + h) * std::sin(lat)};
+}
+glm::dvec2 geodeticLatLon(const glm::dvec3& p) {
+  constexpr double a = 6378137.0, f = 1.0 / 298.257223563, b = a * (1.0 - f), e2 = f * (2.0 - f), ep2 = e2 / (1.0 - e2);
+  const double r = std::hypot(p.x, p.y), theta = std::atan2(p.z * a, r * b);
+  const double lat =
+      std::atan2(p.z + ep2 * b * std::pow(std::sin(theta), 3), r - e2 * a * std::pow(std::cos(theta), 3));
+  return {lat, std::atan2(p.y, p.x)};
+}
+
+// scene.json `"terrain": {"height": h}`: a flat ground at elevation h instead of a DTM, over the
+// cameras and the geometry (their extent without outliers, hv/scene/robust_extent.h) with a margin
+// of half the extent's larger side, at least kGroundMinMargin: the photographs look past their
+// own cameras. Perpendicular to `up` at `up · p = h`; in a geocentric frame (MicMac's ECEF), the
+// plane tangent to the WGS 84 ellipsoid at height h under the cameras' centre. A grid of
+// kGroundCells² cells, so that culling and depth precision see tiles, not two huge triangles.
+constexpr double kGroundMinMargin = 200.0;
+constexpr int kGroundCells = 16;
+void makeGroundPlane(Scene& scene, double height, const std::string& path, Diagnostics& diag) {
+  const Aabb extent = robustExtent(scene).bounds;
+  if (extent.empty()) {
+    diag.warn(inputMessage(path, "terrain.height", "no camera and no geometry to place the ground under (no terrain)"));
+    return;
+  }
+  const bool geocentric = !scene.crs.empty() && describeCrs(scene.crs).geocentric;
+  glm::dvec3 up = glm::normalize(scene.up), anchor;
+  if (geocentric) {
+    const glm::dvec2 latLon = geodeticLatLon(extent.center());
+    anchor = ecefFromGeodetic(latLon.x, latLon.y, height);
+    up = ecefUp(anchor);
+  } else {
+    anchor = extent.center() + (height - glm::dot(extent.center(), up)) * up;
+  }
+  // Two axes in the plane; the extent's corners projected on them give its size.
+  const glm::dvec3 east = glm::normalize(std::abs(up.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), up)
+                                                              : glm::cross(up, glm::dvec3(0, 1, 0)) * -1.0);
+  const glm::dvec3 north = glm::cross(up, east);
+  glm::dvec2 lo(INFINITY), hi(-INFINITY);
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner((c & 1) ? extent.hi.x : extent.lo.x, (c & 2) ? extent.hi.y : extent.lo.y,
+                            (c & 4) ? extent.hi.z : extent.lo.z);
+    const glm::dvec2 q(glm::dot(corner - anchor, east), glm::dot(corner - anchor, north));
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  const double margin = std::max(kGroundMinMargin, 0.5 * std::max(hi.x - lo.x, hi.y - lo.y));
+  lo -= margin;
+  hi += margin;
+  Mesh& m = scene.terrain;
+  m = Mesh{};
+  for (int j = 0; j <= kGroundCells; ++j)
+    for (int i = 0; i <= kGroundCells; ++i) {
+      const double u = lo.x + (hi.x - lo.x) * i / kGroundCells, v = lo.y + (hi.y - lo.y) * j / kGroundCells;
+      m.positions.push_back(anchor + u * east + v * north);
+    }
+  const auto at = [](int i, int j) { return std::uint32_t(j * (kGroundCells + 1) + i); };
+  for (int j = 0; j < kGroundCells; ++j)
+    for (int i = 0; i < kGroundCells; ++i) {  // east x north = up: counter-clockwise from above
+      m.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      m.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  log::debug("terrain: a ground plane at height " + std::to_string(height) + ", " + std::to_string(hi.x - lo.x) +
+             " x " + std::to_string(hi.y - lo.y) + " m");
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path, Diagnostics& diag) {
@@ -271,7 +356,16 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   // into the scene frame (hv/io/georef.h); without a scene CRS, as they are.
   Heightfield dtm;
   std::string terrainPath;
-  if (doc.contains("terrain")) {
+  std::optional<double> groundHeight;
+  if (doc.contains("terrain") && doc["terrain"].is_object() && doc["terrain"].contains("height")) {
+    const json& t = doc["terrain"];
+    if (t.contains("path"))
+      throw InputError(path + ": terrain: expected either a path (a DTM) or a height (a ground plane), not both");
+    if (!t["height"].is_number() || !std::isfinite(t["height"].get<double>()))
+      throw InputError(path + ": terrain.height: expected the ground's elevation in metres, got " + t["height"].dump());
+    groundHeight = t["height"].get<double>();
+    dtm = constantHeightfield(*groundHeight);
+  } else if (doc.contains("terrain")) {
     try {
       const std::string p = sourcePath(doc, "terrain", dir, path);
       terrainPath = p;
@@ -316,30 +410,50 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     try {
       const std::string p = sourcePath(doc, "buildings", dir, path);
       const json& b = doc["buildings"];
-      FootprintFields fields;
-      if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
-      fields.base = optionalString(b, "base", path + ": buildings");
-      fields.top = optionalString(b, "top", path + ": buildings");
-      fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
-      fields.validTo = optionalString(b, "valid_to", path + ": buildings");
-      GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
-      const std::vector<Footprint>& footprints = read.footprints;
-      recordSource(scene, "buildings", read.sourceCrs);
-      scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
-      for (const Footprint& f : footprints) {
-        DateInterval valid;  // open-ended unless the attributes say otherwise
-        auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
-          if (!text || text->empty()) return;
-          if (const auto d = parseDate(*text)) {
-            (from ? valid.first : valid.last) = from ? d->first : d->last;
-          } else {
-            diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
-                      "' (ignored)");
-          }
-        };
-        bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
-        bound(f.validTo, fields.validTo.value_or("valid_to"), false);
-        scene.buildingValidity.push_back(valid);
+      if (isCityJsonFile(p)) {
+        // 3D buildings as they are (LOD1 or LOD2 with their roofs): no footprint to extrude, so
+        // the footprint attributes have nothing to name.
+        for (const char* key : {"height", "base", "top", "valid_from", "valid_to"})
+          if (b.contains(key))
+            diag.warn(inputMessage(path, std::string("buildings.") + key,
+                                   "ignored: " + p + " is CityJSON, whose buildings are 3D already"));
+        CityJsonBuildings city = readCityJson(p, diag);
+        const SourceGeoref georef = sourceGeoref(doc, "buildings", scene.crs, path);
+        if (!scene.crs.empty()) {
+          const GeoTransform transform = sourceTransform(georef, sourceCrsOf(georef, city.crs), p, diag);
+          if (!transform.isIdentity()) transform.points(city.mesh.positions);
+        }
+        recordSource(scene, "buildings", georef.crs.empty() ? city.crs : georef.crs);
+        scene.buildings = std::move(city.mesh);
+        scene.buildingValidity.assign(city.ids.size(), DateInterval{});
+        log::debug("buildings: " + p + ": " + std::to_string(city.ids.size()) + " CityJSON buildings, " +
+                   std::to_string(scene.buildings.triangles.size()) + " triangles");
+      } else {
+        FootprintFields fields;
+        if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
+        fields.base = optionalString(b, "base", path + ": buildings");
+        fields.top = optionalString(b, "top", path + ": buildings");
+        fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
+        fields.validTo = optionalString(b, "valid_to", path + ": buildings");
+        GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
+        const std::vector<Footprint>& footprints = read.footprints;
+        recordSource(scene, "buildings", read.sourceCrs);
+        scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
+        for (const Footprint& f : footprints) {
+          DateInterval valid;  // open-ended unless the attributes say otherwise
+          auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
+            if (!text || text->empty()) return;
+            if (const auto d = parseDate(*text)) {
+              (from ? valid.first : valid.last) = from ? d->first : d->last;
+            } else {
+              diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
+                        "' (ignored)");
+            }
+          };
+          bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
+          bound(f.validTo, fields.validTo.value_or("valid_to"), false);
+          scene.buildingValidity.push_back(valid);
+        }
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (buildings left out)");
@@ -436,6 +550,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (terrain left out)");
     }
   }
+
+  if (groundHeight) makeGroundPlane(scene, *groundHeight, path, diag);
 
   warnUnrelatedFrames(scene, crsDeclared, path, diag);
 

@@ -47,6 +47,36 @@ TEST_F(SceneLoaderInput, UnknownKeysRefuseTheSceneWithTheNearestKnownOne) {
   EXPECT_EQ(refusal(R"({"up": [0, 0, 1]})"), "");
 }
 
+// "terrain": {"height": h}: a flat ground at h under the data, with a margin (at least 200 m),
+// the buildings standing on it.
+TEST_F(SceneLoaderInput, ATerrainHeightGivesAGroundPlaneUnderTheData) {
+  std::ofstream((dir_ / "b.geojson").string()) << R"({"type": "FeatureCollection", "features": [{"type": "Feature",
+    "properties": {"height": 12}, "geometry": {"type": "Polygon", "coordinates": [[[0,0],[10,0],[10,4],[0,4],[0,0]]]}}]})";
+  Diagnostics diag;
+  const Scene s = loadScene(scene(R"({"terrain": {"height": 35}, "buildings": {"path": "b.geojson"}})"), diag);
+  EXPECT_TRUE(diag.ok()) << diag.errors.front();
+  const Aabb b = s.buildings.bounds();
+  EXPECT_EQ(b.lo.z, 35.0);  // the base on the ground, not at 0
+  EXPECT_EQ(b.hi.z, 47.0);
+  const Aabb t = s.terrain.bounds();
+  EXPECT_EQ(t.lo.z, 35.0);
+  EXPECT_EQ(t.hi.z, 35.0);
+  EXPECT_NEAR(t.lo.x, 0.0 - 200.0, 1e-9);  // the footprint's extent and the 200 m margin
+  EXPECT_NEAR(t.hi.x, 10.0 + 200.0, 1e-9);
+  EXPECT_NEAR(t.lo.y, 0.0 - 200.0, 1e-9);
+  EXPECT_NEAR(t.hi.y, 4.0 + 200.0, 1e-9);
+  EXPECT_NEAR(s.terrain.area(), 410.0 * 404.0, 1e-6);
+  for (const glm::uvec3& tri : s.terrain.triangles) {  // up-facing
+    const glm::dvec3 n = glm::cross(s.terrain.positions[tri.y] - s.terrain.positions[tri.x],
+                                    s.terrain.positions[tri.z] - s.terrain.positions[tri.x]);
+    ASSERT_GT(n.z, 0.0);
+  }
+  EXPECT_NE(refusal(R"({"terrain": {"height": 35, "path": "dtm.tif"}})").find("terrain: expected either a path"),
+            std::string::npos);
+  EXPECT_NE(refusal(R"({"terrain": {"height": "35m"}})").find("terrain.height: expected the ground's elevation"),
+            std::string::npos);
+}
+
 TEST_F(SceneLoaderInput, ACrsThatIsNotAStringRefusesTheScene) {
   const std::string m = refusal(R"({"crs": 12345})");
   EXPECT_NE(m.find("scene.json: crs: expected a CRS string"), std::string::npos) << m;

@@ -197,6 +197,54 @@ Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ) {
   return mesh;
 }
 
+std::vector<glm::uvec3> triangulatePolygon(const std::vector<std::vector<glm::dvec2>>& rings, const std::string& what) {
+  if (rings.empty() || rings[0].size() < 3) throw InputError(what + ": fewer than 3 points");
+  std::map<std::pair<double, double>, std::uint32_t> index;
+  std::uint32_t k = 0;
+  for (const auto& ring : rings)
+    for (const glm::dvec2& p : ring) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw InputError(what + ": a non-finite coordinate");
+      index.emplace(std::make_pair(p.x, p.y), k++);
+    }
+  if (rings.size() == 1 && rings[0].size() == 3) {  // a triangle already (most CityJSON surfaces)
+    if (twiceSignedArea(rings[0]) == 0.0) throw InputError(what + ": zero area");
+    return {twiceSignedArea(rings[0]) > 0.0 ? glm::uvec3(0, 1, 2) : glm::uvec3(0, 2, 1)};
+  }
+  const GeosContext ctx;
+  const GeomPtr polygon = makePolygon(ctx, rings);
+  if (!polygon) throw InputError(what + ": not a polygon: " + ctx.lastError());
+  if (GEOSisValid_r(ctx.get(), polygon.get()) != 1) {
+    char* reason = GEOSisValidReason_r(ctx.get(), polygon.get());
+    const std::string why = reason ? reason : ctx.lastError();
+    if (reason) GEOSFree_r(ctx.get(), reason);
+    throw InputError(what + ": invalid polygon: " + why);
+  }
+  const GeomPtr triangles(GEOSConstrainedDelaunayTriangulation_r(ctx.get(), polygon.get()), GeomDeleter{ctx.get()});
+  if (!triangles) throw InputError(what + ": triangulation failed: " + ctx.lastError());
+  std::vector<glm::uvec3> out;
+  const int count = GEOSGetNumGeometries_r(ctx.get(), triangles.get());
+  for (int t = 0; t < count; ++t) {
+    const GEOSGeometry* tri = GEOSGetGeometryN_r(ctx.get(), triangles.get(), t);
+    const GEOSGeometry* shell = GEOSGetExteriorRing_r(ctx.get(), tri);
+    const GEOSCoordSequence* seq = shell ? GEOSGeom_getCoordSeq_r(ctx.get(), shell) : nullptr;
+    unsigned size = 0;
+    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &size) || size < 3)
+      throw InputError(what + ": the triangulation returned a malformed triangle");
+    glm::uvec3 corner;
+    glm::dvec2 xy[3];
+    for (unsigned c = 0; c < 3; ++c) {
+      GEOSCoordSeq_getXY_r(ctx.get(), seq, c, &xy[c].x, &xy[c].y);
+      const auto it = index.find({xy[c].x, xy[c].y});
+      if (it == index.end()) throw InputError(what + ": the triangulation introduced a vertex");
+      corner[int(c)] = it->second;
+    }
+    if (twiceSignedArea({xy[0], xy[1], xy[2]}) < 0.0) std::swap(corner[1], corner[2]);
+    out.push_back(corner);
+  }
+  if (out.empty()) throw InputError(what + ": zero area");
+  return out;
+}
+
 Mesh buildLod1(const std::vector<Footprint>& footprints, const Heightfield* terrain, Diagnostics& diag) {
   Mesh all;
   for (size_t index = 0; index < footprints.size(); ++index) {

@@ -30,6 +30,12 @@ struct Footprint {
 // fewer than 3 distinct points, zero area) or when topZ <= baseZ.
 Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ);
 
+// A planar polygon (rings[0] outer, the rest holes; not closed) triangulated by GEOS's constrained
+// Delaunay triangulation, which adds no vertex. Returns triangles as indices into the rings
+// concatenated in order, counter-clockwise in the plane of the points. Throws InputError (naming
+// `what`) for a polygon GEOS finds invalid or of zero area.
+std::vector<glm::uvec3> triangulatePolygon(const std::vector<std::vector<glm::dvec2>>& rings, const std::string& what);
+
 // All buildings of a layer. Base: `base` attribute, else the lowest terrain elevation under the
 // footprint (when a terrain is given), else 0 with a warning. Top: `top`, else base + height.
 // A footprint that cannot be built is skipped with a warning naming its id; the rest is built.
