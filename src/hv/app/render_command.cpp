@@ -157,6 +157,10 @@ void writeDebugView(render::Renderer& renderer, const render::DebugSettings& deb
 }
 
 int runRender(const RenderOptions& o) {
+  if (o.view.viewsPath.empty() && !o.view.viewpoint.any())
+    throw std::invalid_argument(
+        "render: give the views to render: --views FILE, --camera ID or --eye X,Y,Z "
+        "--look-at X,Y,Z");
   Diagnostics diag;
   const std::unique_ptr<Session> s = openSession(o.view, diag);
   if (o.method == "nearest") s->renderer->settings().blend.method = ibr::BlendMethod::Nearest;
@@ -171,7 +175,7 @@ int runRender(const RenderOptions& o) {
   for (size_t i = 0; i < s->views.size(); ++i) {
     const Photo& v = s->views[i];
     try {
-      const Camera cam = resizeView(v.camera, o.view.size);
+      const Camera cam = sizeView(v.camera, o.view.size, o.view.viewpoint.fit);
       if (const std::string problem = viewSizeProblem(cam, maxTextureSize); !problem.empty())
         throw std::invalid_argument(problem);
       std::string note;
@@ -216,9 +220,14 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
 }
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
-  auto* cmd = app.add_subcommand("render", "render every camera of a views file to PNG");
+  auto* cmd = app.add_subcommand("render",
+                                 "render views to PNG: every camera of a views file, or the "
+                                 "viewpoints given by --camera, --eye/--look-at");
   auto o = std::make_shared<RenderOptions>();
-  addViewOptions(*cmd, o->view);
+  addViewOptions(*cmd, o->view, false);
+  cmd->add_option("--views", o->view.viewsPath, "cameras to render (cameras.json schema; image optional)")
+      ->check(CLI::ExistingFile);
+  addViewpointOptions(*cmd, o->view.viewpoint);
   cmd->add_option("--out", o->out, "output directory")->required();
   cmd->add_flag("--coverage", o->coverage, "also write <id>.coverage.png (255 where some image contributed)");
   cmd->add_option("--debug", o->view.debug,

@@ -119,7 +119,22 @@ struct FocusContextSettings {
   double stepBack = 10.0;   // scene units along -forward (the viewer derives it from the camera spacing)
   double zoomOut = 0.75;    // focal multiplier at the context view (< 1 widens the view)
   double clearance = 0.5;   // kept between the context camera and geometry behind it
+  // The horizon stays level: a photograph whose roll about its axis exceeds maxKeptRollDeg (a rig
+  // camera stored upside down) is shown with the roll removed about `up` (the scene's up), at the
+  // focus and the context view; a smaller roll is kept so the photograph fills the window exactly.
+  bool levelHorizon = true;
+  double maxKeptRollDeg = 10.0;
+  glm::dvec3 up{0.0, 0.0, 1.0};
 };
+
+// The roll of a camera about its viewing axis, radians in (-pi, pi]: the angle between the image's
+// up (-y) and the projection of `up` on the image plane, positive when `up` leans towards the
+// image's x axis; 0 for an image whose x axis is horizontal and whose up points up, pi for one
+// upside down, 0 when the camera looks along `up`.
+double rollOf(const Camera& camera, const glm::dvec3& up);
+// The camera with its roll removed about `up` (image x horizontal, image up upwards); unchanged
+// when it looks along `up`.
+Camera levelled(const Camera& camera, const glm::dvec3& up);
 
 class FocusContextPath {
  public:

@@ -99,6 +99,7 @@ class Viewer {
     const double spacing = scene.cameraSpacing();
     nav_->settings().speed = std::clamp(spacing, 1.0, 50.0);
     focusSettings_.stepBack = 2.0 * spacing;
+    focusSettings_.up = scene.up;
     std::vector<glm::dvec3> centres;
     for (const auto& p : scene.photos) centres.push_back(p.camera.center);
     order_ = streetOrder(centres);
