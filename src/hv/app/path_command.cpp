@@ -2,6 +2,7 @@
 
 #include "hv/io/camera_path_json.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/scene/scene_scale.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
 #include "hv/viewer/tour.h"
@@ -57,12 +58,14 @@ int runTour(const PathOptions& o) {
   const std::vector<int> order = viewer::tourOrder(centres);
   std::vector<Camera> cameras;
   for (int i : order) cameras.push_back(scene.photos[size_t(i)].camera);
-  const double spacing = scene.cameraSpacing();
+  const SceneScale scale = sceneScale(scene);
+  for (const std::string& w : scale.warnings) std::cerr << "warning: " << o.scene << ": " << w << "\n";
+  const viewer::ScaleDefaults defaults = viewer::scaleDefaults(scale.scale);
   viewer::TourSettings t;
   t.focus.up = scene.up;
   t.focus.holdSeconds = o.holdSeconds;
-  t.focus.stepBack = o.stepBack.value_or(2.0 * spacing);
-  t.speed = o.speed.value_or(std::max(spacing, 1e-6));
+  t.focus.stepBack = o.stepBack.value_or(defaults.stepBack);
+  t.speed = o.speed.value_or(defaults.speed);
   std::cout << "tour of " << cameras.size() << " photograph(s) in street order, " << std::setprecision(4)
             << viewer::pathLength(centres, order) << " units from first to last; step back " << t.focus.stepBack
             << ", speed " << t.speed << " units/s\n";
@@ -77,7 +80,7 @@ int runOrbit(const PathOptions& o) {
   const Scene scene = loadScene(o.scene, diag);
   if (o.local) around += scene.origin;
   viewer::OrbitSettings s = o.orbit;
-  s.radius = o.radius.value_or(4.0 * scene.cameraSpacing());
+  s.radius = o.radius.value_or(viewer::scaleDefaults(sceneScale(scene).scale).orbitRadius);
   writePath(o.out, viewer::orbitKeys(around, scene.up, size.x, size.y, s));
   return exitStatus(diag, 0);
 }
@@ -102,11 +105,11 @@ void addPathCommand(CLI::App& app, int& exitCode) {
   commonOptions(*tour, *o);
   tour->add_option("--step-back", o->stepBack,
                    "context: distance stepped back from each photograph (default: "
-                   "twice the camera spacing)")
+                   "the scene's scale, as `info` prints it)")
       ->check(CLI::NonNegativeNumber);
   tour->add_option("--speed", o->speed,
-                   "travel speed between photographs, scene units/s (default: the camera "
-                   "spacing per second)")
+                   "travel speed between photographs, scene units/s (default: half the "
+                   "scene's scale per second)")
       ->check(CLI::PositiveNumber);
   tour->add_option("--hold", o->holdSeconds, "seconds spent at each photograph's view")->check(CLI::NonNegativeNumber);
   setAction(*tour, exitCode, [o] { return runTour(*o); });
@@ -119,7 +122,7 @@ void addPathCommand(CLI::App& app, int& exitCode) {
                    "frame)")
       ->required();
   orbit->add_flag("--local", o->local, "--around is in the render frame (scene frame minus `info`'s origin)");
-  orbit->add_option("--radius", o->radius, "horizontal distance from the point (default: 4 camera spacings)")
+  orbit->add_option("--radius", o->radius, "horizontal distance from the point (default: twice the scene's scale)")
       ->check(CLI::PositiveNumber);
   orbit->add_option("--elevation", o->orbit.elevationDeg, "degrees above the point's horizon (default 30)")
       ->check(CLI::Range(-89.0, 89.0));

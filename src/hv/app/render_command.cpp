@@ -9,6 +9,8 @@
 #include "hv/io/native/scene_loader.h"
 #include "hv/util/log.h"
 #include "hv/image/native/png_write.h"
+#include "hv/scene/scene_scale.h"
+#include "hv/viewer/navigation.h"
 
 #include <CLI/CLI.hpp>
 
@@ -91,7 +93,7 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
     std::cout << "  " << s.source << (s.transformed ? " from " : " in ") << crsText(s.crs)
               << (s.transformed ? "" : " (taken as it is: the scene declares no crs)") << "\n";
   std::cout << "origin     " << vec3String(scene.origin) << " (render frame = world - origin)\n";
-  std::cout << "up         " << vec3String(scene.up) << "\n";
+  std::cout << "up         " << vec3String(scene.up) << "  " << upOrigin(scene) << "\n";
   const Aabb b = scene.bounds();
   if (!b.empty()) std::cout << "extent     " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
   std::cout << "terrain    " << scene.terrain.positions.size() << " vertices, " << scene.terrain.triangles.size()
@@ -110,6 +112,12 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   printPoints(scene.points);
   std::cout << "photos     " << scene.photos.size() << " (camera spacing " << std::setprecision(4)
             << scene.cameraSpacing() << ")\n";
+  const SceneScale scale = sceneScale(scene);
+  const viewer::ScaleDefaults defaults = viewer::scaleDefaults(scale.scale);
+  std::cout << "scale      " << std::setprecision(4) << scale.scale << " (" << scale.source << "; surface distance "
+            << scale.surfaceDistance << ", spacing " << scale.spacing << ", extent " << scale.extent
+            << "): viewer speed " << defaults.speed << "/s, step back " << defaults.stepBack << "\n";
+  for (const std::string& w : scale.warnings) std::cout << "  outlying " << w << "\n";
   std::map<std::string, int> sizes;
   int distorted = 0, masked = 0, dated = 0;
   for (const auto& p : scene.photos) {

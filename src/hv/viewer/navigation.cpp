@@ -130,6 +130,15 @@ Camera photoInWindow(const Camera& photo, int width, int height) {
   return c;
 }
 
+ScaleDefaults scaleDefaults(double scale) {
+  ScaleDefaults d;
+  if (!(scale > 0.0) || !std::isfinite(scale)) return d;
+  d.speed = scale / 2.0;
+  d.stepBack = scale;
+  d.orbitRadius = 2.0 * scale;
+  return d;
+}
+
 double rollOf(const Camera& c, const glm::dvec3& up) {
   const glm::dmat3 worldFromCam = glm::transpose(c.camFromWorld);
   const glm::dvec3 x = worldFromCam[0], y = worldFromCam[1];

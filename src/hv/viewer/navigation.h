@@ -108,6 +108,17 @@ class Navigator {
 // no distortion (the viewer renders pinhole views).
 Camera photoInWindow(const Camera& photo, int width, int height);
 
+// Navigation distances from the scene's scale (hv/scene/scene_scale.h: the typical distance from
+// a camera to the surface it sees, else the spacing of the cameras): the speed crosses that
+// distance in two seconds, the step back of focus + context is that distance (the photograph then
+// covers about half the context view), an orbit keeps twice it.
+struct ScaleDefaults {
+  double speed = 5.0;  // units per second
+  double stepBack = 10.0;
+  double orbitRadius = 20.0;
+};
+ScaleDefaults scaleDefaults(double scale);
+
 // Focus + context (de Castro & Brédif 2022, fig. 5): the view travels to the photograph's
 // camera (focus: the photograph fills the window, aligned with the city around it), holds, then
 // steps back along the viewing axis and widens the field of view (context: the photograph sits in
@@ -116,7 +127,7 @@ struct FocusContextSettings {
   double travelSeconds = 1.2;
   double holdSeconds = 0.6;
   double backSeconds = 1.2;
-  double stepBack = 10.0;   // scene units along -forward (the viewer derives it from the camera spacing)
+  double stepBack = 10.0;   // scene units along -forward (the viewer derives it from the scene's scale)
   double zoomOut = 0.75;    // focal multiplier at the context view (< 1 widens the view)
   double clearance = 0.5;   // kept between the context camera and geometry behind it
   // The horizon stays level: a photograph whose roll about its axis exceeds maxKeptRollDeg (a rig

@@ -241,6 +241,14 @@ TEST(Navigation, StreetOrderFollowsTheStreet) {
 namespace hv::viewer {
 namespace {
 
+TEST(Navigation, ScaleDefaultsCrossTheSurfaceDistanceInTwoSeconds) {
+  const ScaleDefaults d = scaleDefaults(12.0);
+  EXPECT_EQ(d.speed, 6.0);
+  EXPECT_EQ(d.stepBack, 12.0);
+  EXPECT_EQ(d.orbitRadius, 24.0);
+  EXPECT_EQ(scaleDefaults(std::nan("")).speed, ScaleDefaults{}.speed);
+}
+
 TEST(Navigation, FocusOnAnUpsideDownRigCameraKeepsTheHorizonLevel) {
   // A rig camera stored upside down (Stereopolis camera 302): rolled 180 degrees about its axis.
   Camera photo = lookAtCamera("302", {0, 0, 2}, {10, 0, 2}, 400, 300, 300);
