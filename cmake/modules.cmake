@@ -107,7 +107,7 @@ function(hv_define_modules)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
   hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native render_gl
             PRIVATE_EXTERNAL json)
-  hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl
+  hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl viewer
             PRIVATE_EXTERNAL cli11 stb json)
   hv_module(demo DIRS demo DEPS camera image scene scene_native PRIVATE_DEPS image_native io io_native
             PRIVATE_EXTERNAL json gdal)
@@ -120,7 +120,7 @@ function(hv_define_modules)
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/viewer_app\\.cpp$" DEPS session)
   endif()
   hv_module(app DIRS app DEPS camera render PRIVATE_DEPS demo eval gpu image image_native io io_native pose scene
-            session util viewer_desktop PRIVATE_EXTERNAL cli11 json)
+            session util viewer viewer_desktop PRIVATE_EXTERNAL cli11 json)
   # Header-only helpers of the tests.
   hv_module(testing DIRS testing EXTERNAL glm)
   hv_module(render_testing DIRS render/testing DEPS testing)

@@ -104,7 +104,7 @@ for id in "${ids[@]}"; do
   check "$id.png is an 8-bit PNG" test "$(png_bit_depth "$r/$id.png")" = 8
 done
 
-# --- --size: same aspect works, another aspect is refused with a message
+# --- --size: same aspect works; another aspect is cropped or padded; too large names one that fits
 w=$(python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cameras"][0]; print(c["width"], c["height"])' "$city/views.json")
 read -r vw vh <<<"$w"
 if ((vw * 120 == vh * 160)); then
@@ -116,9 +116,49 @@ if ((vw * 120 == vh * 160)); then
 else
   fail "views are ${vw}x${vh}, not 4:3: cannot check --size 160x120"
 fi
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{print ($1*16777216+$2*65536+$3*256+$4) "x" ($5*16777216+$6*65536+$7*256+$8)}'; }
+# Another aspect ratio is cropped (default) or padded, not refused.
 run aspect render "$city/scene.json" --views "$city/views.json" --out "$DIR/r100" --size 100x100 --k 4
-expect_rc size-100x100 fail
-expect_out size-100x100 "aspect"
+expect_rc size-100x100 0
+check "--size 100x100 (crop) wrote a 100x100 PNG" test "$(png_size "$DIR/r100/${ids[0]}.png")" = 100x100
+run aspect-pad render "$city/scene.json" --views "$city/views.json" --out "$DIR/r100p" --size 100x100 --fit pad --k 4
+expect_rc size-100x100-pad 0
+check "--fit pad wrote a 100x100 PNG" test "$(png_size "$DIR/r100p/${ids[0]}.png")" = 100x100
+check "--fit pad shows more than --fit crop (another picture)" \
+  bash -c "! cmp -s '$DIR/r100/${ids[0]}.png' '$DIR/r100p/${ids[0]}.png'"
+# A size too large is refused, naming the nearest that fits.
+run toolarge render "$city/scene.json" --views "$city/views.json" --out "$DIR/rtoolarge" --size 40000x30000 --k 4
+expect_rc huge-size fail
+expect_out huge-size "nearest size that fits.*--size [0-9]+x[0-9]+"
+
+# --- viewpoints without a cameras file: --camera, --eye/--look-at, --step-back
+photo=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["id"])' "$city/cameras.json")
+run camera render "$city/scene.json" --camera "$photo" --out "$DIR/rcam" --size 160x120 --k 4
+expect_rc render-camera 0
+check "--camera $photo wrote $photo.png (160x120)" test "$(png_size "$DIR/rcam/$photo.png")" = 160x120
+run camera-back render "$city/scene.json" --camera "$photo" --step-back 20 --out "$DIR/rback" --size 160x120 --k 4
+expect_rc render-step-back 0
+check "--step-back gives another picture than the photograph's view" \
+  bash -c "! cmp -s '$DIR/rcam/$photo.png' '$DIR/rback/$photo.png'"
+run camera-unknown render "$city/scene.json" --camera no-such-id --out "$DIR/rnone" --k 4
+expect_rc camera-unknown 2
+expect_out camera-unknown "--camera no-such-id: no photograph .* has this id \(ids: "
+centre=$(python3 -c 'import json,sys
+c=json.load(open(sys.argv[1]))["cameras"][0]["center"]; print(",".join(str(v) for v in c))' "$city/cameras.json")
+read -r cx cy cz < <(tr , ' ' <<<"$centre")
+run eye render "$city/scene.json" --eye "$cx,$cy,$cz" --look-at "$(python3 -c "print($cx+50, $cy+20, $cz-5, sep=',')")" \
+  --fov 70 --out "$DIR/reye" --size 128x96 --k 4
+expect_rc render-eye 0
+check "--eye wrote eye.png (128x96)" test "$(png_size "$DIR/reye/eye.png")" = 128x96
+run eye-half render "$city/scene.json" --eye "$cx,$cy,$cz" --out "$DIR/reye2" --k 4
+expect_rc eye-without-look-at 2
+expect_out eye-without-look-at "--eye needs --look-at"
+run render-nothing render "$city/scene.json" --out "$DIR/rnothing"
+expect_rc render-nothing 2
+expect_out render-nothing "--views FILE, --camera ID or --eye"
+run fly-camera fly "$city/scene.json" --camera "$photo" --step-back 10 --fps 2 --out "$DIR/fcam" --size 96x72 --k 4
+expect_rc fly-camera 0
+check "fly --camera --step-back wrote frames (hold + step back at 2 fps)" test -s "$DIR/fcam/f00003.png"
 
 # --- eval: table with a mean row, JSON with the methods
 run eval eval "$city/scene.json" --views "$city/views.json" --truth "$city/truth" --method blend,nearest \

@@ -12,6 +12,7 @@
 #include "hv/app/settings_command.h"
 #include "hv/app/view_command.h"
 #include "hv/app/web_export_command.h"
+#include "hv/app/path_command.h"
 
 #include <CLI/CLI.hpp>
 
@@ -29,6 +30,7 @@ void registerCommands(CLI::App& app) {
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
   addFlyCommand(app, g_exit);
+  addPathCommand(app, g_exit);
   addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
   addCamerasCommand(app, g_exit);

@@ -69,8 +69,16 @@ int runEval(const EvalCommandOptions& o) {
     return runSeams(o);
   }
   Diagnostics diag;
-  if (o.leaveOneOut == !o.view.viewsPath.empty())
-    throw std::invalid_argument("eval: give either --views (with --truth), --leave-one-out or --seams");
+  const ViewpointOptions& vp = o.view.viewpoint;
+  const bool given = !o.view.viewsPath.empty() || vp.any();
+  if (o.leaveOneOut && (!o.view.viewsPath.empty() || !vp.eye.empty()))
+    throw std::invalid_argument(
+        "eval: --leave-one-out scores the photographs (pick some with --camera); it "
+        "takes neither --views nor --eye");
+  if (!o.leaveOneOut && !given)
+    throw std::invalid_argument(
+        "eval: give either --views or --camera/--eye (with --truth), --leave-one-out or "
+        "--seams");
   if (!o.leaveOneOut && o.truth.empty()) throw std::invalid_argument("eval: --views needs --truth");
   eval::EvalOptions opt;
   opt.truthDir = o.truth;
@@ -83,7 +91,8 @@ int runEval(const EvalCommandOptions& o) {
   for (const auto& m : o.methods) opt.methods.push_back(eval::parseMethod(m));
   std::unique_ptr<Session> s = openSession(o.view, diag);
   // Leave-one-out: each photograph is a view, rendered from the others.
-  const std::vector<Photo>& views = o.leaveOneOut ? s->scene.photos : s->views;
+  // --camera with --leave-one-out: only those photographs (openSession made them the views).
+  const std::vector<Photo>& views = o.leaveOneOut && !vp.any() ? s->scene.photos : s->views;
   // Views that could not be scored are outputs not produced; what the loaders left out before is
   // left out (docs/reliability.md).
   const size_t leftOutBefore = diag.errors.size();
@@ -108,6 +117,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   addViewOptions(*cmd, o->view, false);
   cmd->add_option("--views", o->view.viewsPath, "cameras to render and score (cameras.json schema)")
       ->check(CLI::ExistingFile);
+  addViewpointOptions(*cmd, o->view.viewpoint);
   cmd->add_option("--truth", o->truth, "directory of ground-truth images <id>.png|jpg (+ <id>.coverage.png)")
       ->check(CLI::ExistingDirectory);
   cmd->add_flag("--leave-one-out", o->leaveOneOut,

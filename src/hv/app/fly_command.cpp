@@ -6,6 +6,7 @@
 #include "hv/io/camera_path_json.h"
 #include "hv/image/image.h"
 #include "hv/image/native/png_write.h"
+#include "hv/viewer/tour.h"
 
 #include <CLI/CLI.hpp>
 
@@ -78,14 +79,35 @@ struct FlyOptions {
   std::string video;
 };
 
+// fly --camera/--eye: the focus + context walk through the viewpoints (hv/viewer/tour.h), at
+// --size or the first viewpoint's size.
+CameraPath viewpointPath(const Scene& scene, const FlyOptions& o) {
+  const std::vector<Photo> focus = focusViews(scene, {}, o.view.viewpoint, o.view.size);
+  std::vector<Camera> cameras;
+  for (const Photo& p : focus) cameras.push_back(p.camera);
+  glm::ivec2 size(cameras.front().width, cameras.front().height);
+  if (!o.view.size.empty()) size = parseSize(o.view.size);
+  viewer::TourSettings t;
+  t.focus.up = scene.up;
+  t.focus.stepBack = o.view.viewpoint.stepBack.value_or(0.0);
+  t.focus.zoomOut = o.view.viewpoint.stepBack ? o.view.viewpoint.zoomOut : 1.0;
+  return CameraPath(viewer::focusContextKeys(cameras, size.x, size.y, t));
+}
+
 int runFly(const FlyOptions& o) {
   Diagnostics diag;
+  const bool fromPath = !o.path.empty();
+  if (fromPath == o.view.viewpoint.any())
+    throw std::invalid_argument(
+        "fly: give either --path FILE or viewpoints (--camera ID, --eye X,Y,Z --look-at "
+        "X,Y,Z)");
   // Everything that can be checked without the scene is checked first.
   std::optional<PathFrames> frames;
-  Camera first;
   try {
-    frames.emplace(readCameraPath(o.path, diag), o.fps);
-    first = resizeView((*frames)[0], o.view.size);  // every frame has the keys' size
+    if (fromPath) {
+      frames.emplace(readCameraPath(o.path, diag), o.fps);
+      sizeView((*frames)[0], o.view.size, o.view.viewpoint.fit);  // every frame has the keys' size
+    }
     renderSettings(o.view);  // the option values (dates, colour)
   } catch (const std::exception& e) {
     std::cerr << "error: " << o.path << ": " << e.what() << "\n";
@@ -98,13 +120,17 @@ int runFly(const FlyOptions& o) {
       std::cerr
           << "warning: --video: ffmpeg is not on PATH; the frames will be written as PNGs but not encoded\n";
   }
-  const std::unique_ptr<Session> s = openSession(o.view, diag);
+  ViewOptions sessionOptions = o.view;
+  sessionOptions.viewpoint = {};  // the viewpoints make the path, not views
+  const std::unique_ptr<Session> s = openSession(sessionOptions, diag);
+  if (!fromPath) frames.emplace(viewpointPath(s->scene, o), o.fps);
+  const Camera first = sizeView((*frames)[0], o.view.size, o.view.viewpoint.fit);
   std::cout << "flying " << frames->size() << " frame(s) of " << first.width << "x" << first.height << " at "
             << o.fps << " fps (" << (o.progressive ? "progressive" : "converged") << " frames) to " << o.out
             << "\n";
   const FlyResult r = flyPath(
-      *s->renderer, frames->size(), [&](int i) { return resizeView((*frames)[i], o.view.size); }, o.out,
-      o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; });
+      *s->renderer, frames->size(), [&](int i) { return sizeView((*frames)[i], o.view.size, o.view.viewpoint.fit); },
+      o.out, o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; });
   std::cerr << "\n";
   for (const std::string& f : r.failures) std::cerr << "error: " << f << "\n";
   if (r.gaveUp)
@@ -247,9 +273,10 @@ void addFlyCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<FlyOptions>();
   addViewOptions(*cmd, o->view, false);
   cmd->add_option("--path", o->path,
-                  "key cameras (cameras.json schema, optional time t in seconds per camera)")
-      ->required()
+                  "key cameras (cameras.json schema, optional time t in seconds per camera; `histoview path` "
+                  "makes one); or fly to the viewpoints given by --camera/--eye")
       ->check(CLI::ExistingFile);
+  addViewpointOptions(*cmd, o->view.viewpoint);
   cmd->add_option("--out", o->out, "output directory (<frame id>.png: f00000.png, f00001.png, ...)")
       ->required();
   cmd->add_option("--fps", o->fps, "frames per second along the path (default 25)")

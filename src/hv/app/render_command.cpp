@@ -9,6 +9,8 @@
 #include "hv/io/native/scene_loader.h"
 #include "hv/util/log.h"
 #include "hv/image/native/png_write.h"
+#include "hv/scene/scene_scale.h"
+#include "hv/viewer/navigation.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -104,7 +106,7 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
     std::cout << "  " << s.source << (s.transformed ? " from " : " in ") << crsText(s.crs)
               << (s.transformed ? "" : " (taken as it is: the scene declares no crs)") << "\n";
   std::cout << "origin     " << vec3String(scene.origin) << " (render frame = world - origin)\n";
-  std::cout << "up         " << vec3String(scene.up) << "\n";
+  std::cout << "up         " << vec3String(scene.up) << "  " << upOrigin(scene) << "\n";
   const Aabb b = scene.bounds();
   if (!b.empty()) std::cout << "extent     " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
   std::cout << "terrain    " << scene.terrain.positions.size() << " vertices, " << scene.terrain.triangles.size()
@@ -125,6 +127,12 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   printPoints(scene.points);
   std::cout << "photos     " << scene.photos.size() << " (camera spacing " << std::setprecision(4)
             << scene.cameraSpacing() << ")\n";
+  const SceneScale scale = sceneScale(scene);
+  const viewer::ScaleDefaults defaults = viewer::scaleDefaults(scale.scale);
+  std::cout << "scale      " << std::setprecision(4) << scale.scale << " (" << scale.source << "; surface distance "
+            << scale.surfaceDistance << ", spacing " << scale.spacing << ", extent " << scale.extent
+            << "): viewer speed " << defaults.speed << "/s, step back " << defaults.stepBack << "\n";
+  for (const std::string& w : scale.warnings) std::cout << "  outlying " << w << "\n";
   std::map<std::string, int> sizes;
   int distorted = 0, masked = 0, dated = 0;
   for (const auto& p : scene.photos) {
@@ -179,6 +187,10 @@ void writeDebugView(render::Renderer& renderer, const render::DebugSettings& deb
 }
 
 int runRender(const RenderOptions& o) {
+  if (o.view.viewsPath.empty() && !o.view.viewpoint.any())
+    throw std::invalid_argument(
+        "render: give the views to render: --views FILE, --camera ID or --eye X,Y,Z "
+        "--look-at X,Y,Z");
   Diagnostics diag;
   const std::unique_ptr<Session> s = openSession(o.view, diag);
   if (o.method == "nearest") s->renderer->settings().blend.method = ibr::BlendMethod::Nearest;
@@ -193,7 +205,7 @@ int runRender(const RenderOptions& o) {
   for (size_t i = 0; i < s->views.size(); ++i) {
     const Photo& v = s->views[i];
     try {
-      const Camera cam = resizeView(v.camera, o.view.size);
+      const Camera cam = sizeView(v.camera, o.view.size, o.view.viewpoint.fit);
       if (const std::string problem = viewSizeProblem(cam, maxTextureSize); !problem.empty())
         throw std::invalid_argument(problem);
       std::string note;
@@ -238,9 +250,14 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
 }
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
-  auto* cmd = app.add_subcommand("render", "render every camera of a views file to PNG");
+  auto* cmd = app.add_subcommand("render",
+                                 "render views to PNG: every camera of a views file, or the "
+                                 "viewpoints given by --camera, --eye/--look-at");
   auto o = std::make_shared<RenderOptions>();
-  addViewOptions(*cmd, o->view);
+  addViewOptions(*cmd, o->view, false);
+  cmd->add_option("--views", o->view.viewsPath, "cameras to render (cameras.json schema; image optional)")
+      ->check(CLI::ExistingFile);
+  addViewpointOptions(*cmd, o->view.viewpoint);
   cmd->add_option("--out", o->out, "output directory")->required();
   cmd->add_flag("--coverage", o->coverage, "also write <id>.coverage.png (255 where some image contributed)");
   cmd->add_option("--debug", o->view.debug,

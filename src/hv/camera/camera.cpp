@@ -212,8 +212,11 @@ Camera Camera::resized(int newWidth, int newHeight) const {
   const double s = double(newWidth) / width;
   if (newWidth <= 0 || newHeight <= 0 || std::abs(height * s - newHeight) > 1.0)
     throw std::invalid_argument("camera '" + id + "' is " + std::to_string(width) + "x" + std::to_string(height) +
-                                ", cannot be resized to " + std::to_string(newWidth) + "x" +
-                                std::to_string(newHeight) + " (a different aspect ratio)");
+                                ", cannot be resized to " + std::to_string(newWidth) + "x" + std::to_string(newHeight) +
+                                " (a different aspect ratio; the nearest size of its "
+                                "own: " +
+                                std::to_string(newWidth) + "x" + std::to_string(std::max(1L, std::lround(height * s))) +
+                                ")");
   return scaled(s, newWidth, newHeight);
 }
 

@@ -45,15 +45,26 @@ CLI::Validator positiveCount() {
       "N");
 }
 
+glm::ivec2 nearestValidViewSize(int width, int height, int maxTextureSize) {
+  double s = 1.0;
+  if (maxTextureSize > 0) s = std::min({s, double(maxTextureSize) / width, double(maxTextureSize) / height});
+  s = std::min(s, std::sqrt(double(kMaxViewPixels) / (double(width) * double(height))));
+  // Rounded down, so the size found is within both limits; the aspect ratio within a pixel.
+  return {std::max(1, int(std::floor(width * s))), std::max(1, int(std::floor(height * s)))};
+}
+
 std::string viewSizeProblem(const Camera& view, int maxTextureSize) {
   const std::string size = std::to_string(view.width) + "x" + std::to_string(view.height);
+  const glm::ivec2 valid = nearestValidViewSize(view.width, view.height, maxTextureSize);
+  const std::string hint = "; the nearest size that fits, same aspect ratio: --size " + std::to_string(valid.x) + "x" +
+                           std::to_string(valid.y);
   if (maxTextureSize > 0 && (view.width > maxTextureSize || view.height > maxTextureSize))
     return "the view is " + size + ", larger than the context's MAX_TEXTURE_SIZE (" + std::to_string(maxTextureSize) +
-           "); use --size to render it smaller";
+           ")" + hint;
   if (std::int64_t(view.width) * view.height > kMaxViewPixels)
     return "the view is " + size + " (" + std::to_string(std::int64_t(view.width) * view.height / 1000000) +
            " megapixels), more than the limit of " + std::to_string(kMaxViewPixels / 1000000) +
-           " megapixels whose buffers fit in memory; use --size to render it smaller";
+           " megapixels whose buffers fit in memory" + hint;
   return "";
 }
 

@@ -31,6 +31,9 @@ inline constexpr std::int64_t kMaxViewPixels = std::int64_t(1) << 26;
 // Empty when `view` can be rendered; otherwise a sentence naming its size and the limit it
 // exceeds (MAX_TEXTURE_SIZE of the context, or kMaxViewPixels).
 std::string viewSizeProblem(const Camera& view, int maxTextureSize);
+// The largest size of the same aspect ratio (within a pixel) that viewSizeProblem accepts: the
+// size named by its message.
+glm::ivec2 nearestValidViewSize(int width, int height, int maxTextureSize);
 
 // What an image file's header says (nothing decoded).
 struct ImageHeader {

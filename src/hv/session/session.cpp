@@ -287,6 +287,7 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
     session->views = readCameraFile(o.viewsPath, viewOpts, diag);
     if (session->views.empty()) throw InputError(o.viewsPath + ": no usable view camera");
   }
+  if (o.viewpoint.any()) session->views = viewpointViews(session->scene, session->views, o.viewpoint, o.size);
   if (o.strict && !diag.ok())
     throw std::runtime_error("--strict: " + std::to_string(diag.errors.size()) +
                              " input item(s) would be left out (named above); nothing rendered");

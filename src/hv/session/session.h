@@ -5,6 +5,7 @@
 #include "hv/gpu/context.h"
 #include "hv/render/renderer.h"
 #include "hv/scene/scene.h"
+#include "hv/session/viewpoint.h"
 #include "hv/util/dates.h"
 #include "hv/util/diagnostics.h"
 
@@ -40,6 +41,9 @@ struct ViewOptions {
   std::vector<std::string> hide;    // --hide terrain,buildings,mesh: --no-terrain ... in one option
   std::string debug;                // count | weight:ID | depth:ID (empty: none)
   bool strict = false;  // stop before rendering when an input item was left out
+  // --camera, --eye/--look-at, --step-back, --fit (render, eval, fly; registered by
+  // addViewpointOptions): when any is given, the session's views are the viewpoints asked for.
+  ViewpointOptions viewpoint;
 };
 // Registers the scene argument, --size, and one option per render setting of the schema (a flag
 // pair --NAME / --no-NAME for a boolean), checked while the command line is parsed.
@@ -78,7 +82,8 @@ struct Session {
   std::unique_ptr<render::Renderer> renderer;
 };
 
-// Loads the scene and the views (when o.viewsPath is set), prints what failed, creates the context
+// Loads the scene and the views (when o.viewsPath is set; o.viewpoint, when given, picks and makes
+// the views: viewpointViews), prints what failed, creates the context
 // (`makeContext`, e.g. a window's; default: headless EGL) and renderer. Throws (InputError,
 // std::invalid_argument for option values) when nothing can be rendered; option values are checked
 // before anything is loaded.

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace hv::viewer {
 
@@ -129,6 +130,31 @@ Camera photoInWindow(const Camera& photo, int width, int height) {
   return c;
 }
 
+ScaleDefaults scaleDefaults(double scale) {
+  ScaleDefaults d;
+  if (!(scale > 0.0) || !std::isfinite(scale)) return d;
+  d.speed = scale / 2.0;
+  d.stepBack = scale;
+  d.orbitRadius = 2.0 * scale;
+  return d;
+}
+
+double rollOf(const Camera& c, const glm::dvec3& up) {
+  const glm::dmat3 worldFromCam = glm::transpose(c.camFromWorld);
+  const glm::dvec3 x = worldFromCam[0], y = worldFromCam[1];
+  const double right = glm::dot(x, up), upward = -glm::dot(y, up);
+  if (std::abs(right) + std::abs(upward) < 1e-12) return 0.0;
+  return std::atan2(right, upward);
+}
+
+Camera levelled(const Camera& c, const glm::dvec3& up) {
+  const glm::dvec3 forward = forwardOf(c), u = glm::normalize(up);
+  if (glm::length(glm::cross(glm::normalize(forward), u)) < 1e-9) return c;
+  Camera out = c;
+  out.camFromWorld = camFromWorldLooking(forward, u);
+  return out;
+}
+
 double smoothstep01(double s) {
   s = std::clamp(s, 0.0, 1.0);
   return s * s * (3.0 - 2.0 * s);
@@ -151,6 +177,8 @@ FocusContextPath::FocusContextPath(const Camera& from, const Camera& photo, cons
   from_.distortion.reset();
   focus_ = photoInWindow(photo, from.width, from.height);
   focus_.id = photo.id;
+  if (s.levelHorizon && std::abs(rollOf(focus_, s.up)) > s.maxKeptRollDeg * std::numbers::pi / 180.0)
+    focus_ = levelled(focus_, s.up);
   double back = std::max(0.0, s.stepBack);
   const glm::dvec3 forward = forwardOf(focus_);
   if (geometry && back > 0.0) {

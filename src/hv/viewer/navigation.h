@@ -108,6 +108,17 @@ class Navigator {
 // no distortion (the viewer renders pinhole views).
 Camera photoInWindow(const Camera& photo, int width, int height);
 
+// Navigation distances from the scene's scale (hv/scene/scene_scale.h: the typical distance from
+// a camera to the surface it sees, else the spacing of the cameras): the speed crosses that
+// distance in two seconds, the step back of focus + context is that distance (the photograph then
+// covers about half the context view), an orbit keeps twice it.
+struct ScaleDefaults {
+  double speed = 5.0;  // units per second
+  double stepBack = 10.0;
+  double orbitRadius = 20.0;
+};
+ScaleDefaults scaleDefaults(double scale);
+
 // Focus + context (de Castro & Brédif 2022, fig. 5): the view travels to the photograph's
 // camera (focus: the photograph fills the window, aligned with the city around it), holds, then
 // steps back along the viewing axis and widens the field of view (context: the photograph sits in
@@ -116,10 +127,25 @@ struct FocusContextSettings {
   double travelSeconds = 1.2;
   double holdSeconds = 0.6;
   double backSeconds = 1.2;
-  double stepBack = 10.0;   // scene units along -forward (the viewer derives it from the camera spacing)
+  double stepBack = 10.0;   // scene units along -forward (the viewer derives it from the scene's scale)
   double zoomOut = 0.75;    // focal multiplier at the context view (< 1 widens the view)
   double clearance = 0.5;   // kept between the context camera and geometry behind it
+  // The horizon stays level: a photograph whose roll about its axis exceeds maxKeptRollDeg (a rig
+  // camera stored upside down) is shown with the roll removed about `up` (the scene's up), at the
+  // focus and the context view; a smaller roll is kept so the photograph fills the window exactly.
+  bool levelHorizon = true;
+  double maxKeptRollDeg = 10.0;
+  glm::dvec3 up{0.0, 0.0, 1.0};
 };
+
+// The roll of a camera about its viewing axis, radians in (-pi, pi]: the angle between the image's
+// up (-y) and the projection of `up` on the image plane, positive when `up` leans towards the
+// image's x axis; 0 for an image whose x axis is horizontal and whose up points up, pi for one
+// upside down, 0 when the camera looks along `up`.
+double rollOf(const Camera& camera, const glm::dvec3& up);
+// The camera with its roll removed about `up` (image x horizontal, image up upwards); unchanged
+// when it looks along `up`.
+Camera levelled(const Camera& camera, const glm::dvec3& up);
 
 class FocusContextPath {
  public:

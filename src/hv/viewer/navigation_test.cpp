@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 namespace hv::viewer {
@@ -232,6 +233,46 @@ TEST(Navigation, StreetOrderFollowsTheStreet) {
   EXPECT_EQ(stepAlong(order, order.back(), 1), order.back()) << "clamped at the end of the street";
   EXPECT_EQ(stepAlong(order, -1, 1), order.front());
   EXPECT_EQ(nearestCentre(shuffled, {0.5, 0.2, 2}), int(std::find(truth.begin(), truth.end(), 0) - truth.begin()));
+}
+
+}  // namespace
+}  // namespace hv::viewer
+
+namespace hv::viewer {
+namespace {
+
+TEST(Navigation, ScaleDefaultsCrossTheSurfaceDistanceInTwoSeconds) {
+  const ScaleDefaults d = scaleDefaults(12.0);
+  EXPECT_EQ(d.speed, 6.0);
+  EXPECT_EQ(d.stepBack, 12.0);
+  EXPECT_EQ(d.orbitRadius, 24.0);
+  EXPECT_EQ(scaleDefaults(std::nan("")).speed, ScaleDefaults{}.speed);
+}
+
+TEST(Navigation, FocusOnAnUpsideDownRigCameraKeepsTheHorizonLevel) {
+  // A rig camera stored upside down (Stereopolis camera 302): rolled 180 degrees about its axis.
+  Camera photo = lookAtCamera("302", {0, 0, 2}, {10, 0, 2}, 400, 300, 300);
+  photo.camFromWorld = glm::dmat3(-1, 0, 0, 0, -1, 0, 0, 0, 1) * photo.camFromWorld;
+  EXPECT_NEAR(std::abs(rollOf(photo, {0, 0, 1})), std::numbers::pi, 1e-12);
+  const Camera from = lookAtCamera("here", {-20, -20, 30}, {0, 0, 0}, 400, 300, 250);
+  FocusContextSettings s;
+  const FocusContextPath path(from, photo, s);
+  for (const Camera* c : {&path.focus(), &path.context()}) {
+    EXPECT_NEAR(rollOf(*c, {0, 0, 1}), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(forwardOf(*c) - forwardOf(photo)), 0.0, 1e-12) << "still looks where it looked";
+    // Up in the world is up in the image.
+    EXPECT_LT(c->project({10, 0, 5}).pxIdeal.y, c->project({10, 0, -1}).pxIdeal.y);
+  }
+  // A small roll is kept: the photograph then fills the window exactly.
+  Camera tilted = lookAtCamera("p", {0, 0, 2}, {10, 0, 2}, 400, 300, 300);
+  const double a = 5.0 * std::numbers::pi / 180.0;
+  tilted.camFromWorld =
+      glm::dmat3(std::cos(a), std::sin(a), 0, -std::sin(a), std::cos(a), 0, 0, 0, 1) * tilted.camFromWorld;
+  EXPECT_NEAR(std::abs(rollOf(tilted, {0, 0, 1})), a, 1e-12);
+  EXPECT_EQ(FocusContextPath(from, tilted, s).focus().camFromWorld, tilted.camFromWorld);
+  // And the setting turns the levelling off.
+  s.levelHorizon = false;
+  EXPECT_EQ(FocusContextPath(from, photo, s).focus().camFromWorld, photo.camFromWorld);
 }
 
 }  // namespace

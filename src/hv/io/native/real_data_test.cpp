@@ -5,6 +5,7 @@
 #include "hv/io/native/georef.h"
 #include "hv/io/native/raster.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/scene/scene_scale.h"
 #include "hv/testing/data_dir.h"
 
 #include <gtest/gtest.h>
@@ -175,6 +176,37 @@ TEST(RealData, StereopolisCamerasLoadWithTheirImages) {
     EXPECT_TRUE(std::filesystem::is_regular_file(p.imagePath)) << p.imagePath;
   }
   EXPECT_EQ(distorted, 30);
+}
+
+// The scale and the up axis on the real scenes (../shared/data/README.md): Sceaux's SfM frame has up
+// about -z (the README's mean camera up (0.03, 0.18, -0.98)), its cameras ~1.1 units apart facing a
+// façade ~8 units wide; the Stereopolis panoramas are a kilometre apart with no geometry, their
+// rig cameras 0.12 m apart (the old spacing).
+TEST(RealData, SceauxUpAndScaleComeFromTheCamerasAndTheMesh) {
+  const std::string dir = testing::dataset("sceaux");
+  if (dir.empty()) HV_SKIP_WITHOUT_DATA(std::string("no sceaux/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
+  Diagnostics diag;
+  const Scene scene = loadScene(dir + "/scene.json", diag);
+  EXPECT_NEAR(glm::length(scene.up - glm::normalize(glm::dvec3(0.03, 0.18, -0.98))), 0.0, 0.01);
+  const SceneScale s = sceneScale(scene);
+  EXPECT_TRUE(s.outlying.empty());
+  EXPECT_NE(s.source.find("camera-to-surface"), std::string::npos) << s.source;
+  EXPECT_GT(s.scale, 2.0);   // more than the cameras' spacing: they stand back from the façade
+  EXPECT_LT(s.scale, 20.0);  // and within twice the mesh's extent
+}
+
+TEST(RealData, StereopolisScaleIsNotTheRigSpacing) {
+  const std::string dir = testing::dataset("paris-stereopolis");
+  if (dir.empty())
+    HV_SKIP_WITHOUT_DATA(std::string("no paris-stereopolis/ in ") + testing::dataDir() + " (set HISTOVIEW_DATA)");
+  Diagnostics diag;
+  const Scene scene = loadScene(dir + "/scene.json", diag);
+  ASSERT_EQ(scene.photos.size(), 30u);
+  EXPECT_LT(scene.cameraSpacing(), 0.2);
+  const SceneScale s = sceneScale(scene);
+  EXPECT_GT(s.spacing, 500.0);  // panoramas across Paris
+  EXPECT_EQ(s.scale, kMetricSpacingScale[1]);
+  EXPECT_TRUE(s.outlying.empty());
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
 #include "hv/scene/robust_extent.h"
+#include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/util/log.h"
 #include "hv/util/input_file.h"
@@ -28,6 +29,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <numbers>
 #include <sstream>
 
 namespace hv {
@@ -141,6 +144,36 @@ void georeferenceCameras(Scene& scene, const std::string& cameraCrs, bool upDecl
     for (const Photo& p : scene.photos) mean += p.camera.center / double(scene.photos.size());
     scene.up = ecefUp(mean);
   }
+}
+
+// The up axis of a scene that declares neither a CRS nor `up` (an SfM frame: Sceaux's is -z) is
+// the one the cameras agree on (hv/scene/scene_scale.h cameraUp), when they agree well enough; a
+// declared `up` that the cameras contradict is named. `info` says where the axis came from
+// (hv/scene/scene_scale.h upOrigin).
+void settleUp(Scene& scene, bool upDeclared, const std::string& path, Diagnostics& diag) {
+  const CameraUp fromCameras = cameraUp(scene.photos);
+  const bool agree = fromCameras.cameras > 0 && fromCameras.agreement >= kCameraUpAgreement;
+  auto vec = [](const glm::dvec3& v) {
+    std::ostringstream t;
+    t << std::fixed << std::setprecision(3) << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+    return t.str();
+  };
+  if (upDeclared) {
+    const double angle =
+        std::acos(std::clamp(glm::dot(scene.up, fromCameras.up), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    if (agree && angle > kCameraUpDisagreementDeg)
+      diag.warn(path + ": up: " + vec(scene.up) + " is " + std::to_string(int(std::lround(angle))) +
+                " degrees from the cameras' mean image up " + vec(fromCameras.up) + " (" +
+                std::to_string(fromCameras.cameras) + " cameras); the views would be tilted or upside down");
+    return;
+  }
+  if (!scene.crs.empty() || !agree) return;
+  scene.up = fromCameras.up;
+  const double fromZ = std::acos(std::clamp(scene.up.z, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  if (fromZ > kCameraUpDisagreementDeg)
+    diag.warn(path + ": no crs and no up: up " + vec(scene.up) + " inferred from the " +
+              std::to_string(fromCameras.cameras) + " cameras (" + std::to_string(int(std::lround(fromZ))) +
+              " degrees from z); give \"up\" in scene.json to choose another");
 }
 
 // Brings a point cloud into the scene frame (hv/io/georef.h): from its own CRS (the file's, or
@@ -554,6 +587,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   if (groundHeight) makeGroundPlane(scene, *groundHeight, path, diag);
 
   warnUnrelatedFrames(scene, crsDeclared, path, diag);
+  settleUp(scene, doc.contains("up"), path, diag);
 
   if (doc.contains("origin")) {
     scene.origin = vec3Field(doc, "origin", path);

@@ -14,6 +14,7 @@
 #include "hv/viewer/key_events.h"
 #include "hv/viewer/navigation.h"
 #include "hv/image/native/png_write.h"
+#include "hv/scene/scene_scale.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -102,9 +103,14 @@ class Viewer {
     all.append(scene.mesh);
     if (!all.empty()) caster_ = std::make_unique<RayCaster>(all);
     nav_ = std::make_unique<Navigator>(scene.up, caster_.get());
-    const double spacing = scene.cameraSpacing();
-    nav_->settings().speed = std::clamp(spacing, 1.0, 50.0);
-    focusSettings_.stepBack = 2.0 * spacing;
+    const SceneScale scale = sceneScale(scene);
+    for (const std::string& w : scale.warnings) std::cerr << "warning: " << scene.path << ": " << w << "\n";
+    const ScaleDefaults defaults = scaleDefaults(scale.scale);
+    nav_->settings().speed = defaults.speed;
+    focusSettings_.stepBack = defaults.stepBack;
+    focusSettings_.up = scene.up;
+    std::cout << "viewer: scale " << scale.scale << " (" << scale.source << "): speed " << defaults.speed
+              << "/s, step back " << defaults.stepBack << "\n";
     std::vector<glm::dvec3> centres;
     for (const auto& p : scene.photos) centres.push_back(p.camera.center);
     order_ = streetOrder(centres);
