@@ -101,7 +101,7 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
   float z;
   if (!hv_applies(im, P, existed, dt, uv, z)) return;
   if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P, u_meshPushBack)) return;
-  hv_accumulate(i, im, textureLod(image, uv, 0.0), u_method == 1, u_debugImage, b);
+  hv_accumulate(i, im, hv_correctColour(im, textureLod(image, uv, 0.0)), u_method == 1, u_debugImage, b);
 }
 #include "generated:naive_binding"
 #endif
@@ -168,7 +168,7 @@ void main() {
     if (!hv_applies(im, P, existed, dt, uv, z)) continue;
     if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack))
       continue;
-    hv_accumulate(i, im, textureLod(u_images, vec3(uv, im.slice), 0.0), u_method == 1, u_debugImage, blend);
+    hv_accumulate(i, im, hv_correctColour(im, textureLod(u_images, vec3(uv, im.slice), 0.0)), u_method == 1, u_debugImage, blend);
     if (blend.done) break;
   }
 #endif

@@ -77,7 +77,7 @@ city=$DIR/city
 # --- demo --generate-only: a small city (fast), same files as the default one
 run demo demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3
 expect_rc demo 0
-for f in scene.json views.json cameras.json buildings.geojson dtm.tif; do
+for f in scene.json views.json cameras.json buildings.geojson dtm.tif corrections.json; do
   check "demo wrote city/$f" test -s "$city/$f"
 done
 mapfile -t ids < <(view_ids "$city/views.json")
@@ -215,6 +215,31 @@ expect_out "render with one bad view camera" "views-badrot.json.*$badview.*rotat
 check "bad view camera: not rendered" test ! -e "$DIR/rbadview/$badview.png"
 for id in "${ids[@]:1}"; do
   check "bad view camera: good view $id still written" test -s "$DIR/rbadview/$id.png"
+done
+
+# Colour corrections: the demo names its own (corrections.json, `histoview harmonize`); a bad entry
+# is reported (file, entry, field) and the rest renders with the others' corrections.
+check "demo scene names its colour corrections" grep -q '"colour": "corrections.json"' "$city/scene.json"
+run harmonize harmonize "$city/scene.json" -o "$DIR/corrections.json" --samples 1500
+expect_rc harmonize 0
+expect_out harmonize "[0-9]+ pairs; colour difference"
+check "harmonize wrote the corrections" grep -q '"model": "gain-offset"' "$DIR/corrections.json"
+python3 - "$city" "$badphoto" <<'PY'
+import json, sys
+city, bad = sys.argv[1], sys.argv[2]
+c = json.load(open(f"{city}/corrections.json"))
+for e in c["corrections"]:
+    if e["id"] == bad: e["gain"] = [1, "x", 1]
+json.dump(c, open(f"{city}/corrections-bad.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["colour"] = "corrections-bad.json"
+json.dump(scene, open(f"{city}/scene-badcolour.json", "w"))
+PY
+run badcolour render "$city/scene-badcolour.json" --views "$city/views.json" --out "$DIR/rbadcolour" --k 4 --size 160x120
+expect_rc "render with one bad colour correction" 3
+expect_out "render with one bad colour correction" "corrections-bad.json: corrections\\[[0-9]+\\] \\('$badphoto'\\): gain"
+for id in "${ids[@]}"; do
+  check "bad colour correction: view $id still written" test -s "$DIR/rbadcolour/$id.png"
 done
 
 run bad-size render "$city/scene.json" --views "$city/views.json" --out "$DIR/rbadsize" --size 160by120

@@ -5,6 +5,7 @@
 #include "hv/app/demo_command.h"
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
+#include "hv/app/harmonize_command.h"
 #include "hv/session/outputs.h"
 #include "hv/app/render_command.h"
 #include "hv/app/settings_command.h"
@@ -23,6 +24,7 @@ void registerCommands(CLI::App& app) {
   app.footer(exitStatusHelp());
   addInfoCommand(app, g_exit);
   addCheckCommand(app, g_exit);
+  addHarmonizeCommand(app, g_exit);
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
   addFlyCommand(app, g_exit);

@@ -1,4 +1,5 @@
-// The subcommands of the histoview executable (render, eval, info, fly, view, demo, cameras, web-export, settings).
+// The subcommands of the histoview executable (render, eval, info, check, harmonize, fly, view, demo, cameras,
+// web-export, settings).
 #pragma once
 
 namespace CLI {

@@ -20,6 +20,11 @@ std::optional<ImageHit> projectIntoImage(const ImageParams& im, const glm::dvec3
   return hit;
 }
 
+glm::dvec4 correctTexel(const ColourCorrection& colour, const glm::dvec4& texel) {
+  const glm::dvec3 c = colour.gain * glm::dvec3(texel) + texel.a * colour.offset;
+  return {glm::clamp(c, glm::dvec3(0.0), glm::dvec3(texel.a)), texel.a};
+}
+
 BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& images, BlendMethod method,
                            const TextureLookup& texture, const VisibilityTest& visible, Selection selection, int k) {
   BlendResult out;
@@ -32,7 +37,7 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
     const auto hit = projectIntoImage(im, P);
     if (!hit) continue;
     if (visible && !visible(i, P, hit->depth)) continue;
-    const glm::dvec4 texel = texture(im.layout.slice, hit->pxDistorted * im.layout.uvScale);
+    const glm::dvec4 texel = correctTexel(im.colour, texture(im.layout.slice, hit->pxDistorted * im.layout.uvScale));
     if (texel.a <= 0.0) continue;
     if (method == BlendMethod::Nearest) {
       // Images are sorted by distance: the first that passes every test wins.
