@@ -77,7 +77,7 @@ city=$DIR/city
 # --- demo --generate-only: a small city (fast), same files as the default one
 run demo demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3
 expect_rc demo 0
-for f in scene.json views.json cameras.json buildings.geojson dtm.tif corrections.json; do
+for f in scene.json views.json cameras.json buildings.geojson dtm.tif; do
   check "demo wrote city/$f" test -s "$city/$f"
 done
 mapfile -t ids < <(view_ids "$city/views.json")
@@ -217,13 +217,12 @@ for id in "${ids[@]:1}"; do
   check "bad view camera: good view $id still written" test -s "$DIR/rbadview/$id.png"
 done
 
-# Colour corrections: the demo names its own (corrections.json, `histoview harmonize`); a bad entry
-# is reported (file, entry, field) and the rest renders with the others' corrections.
-check "demo scene names its colour corrections" grep -q '"colour": "corrections.json"' "$city/scene.json"
-run harmonize harmonize "$city/scene.json" -o "$DIR/corrections.json" --samples 1500
+# Colour corrections (`histoview harmonize`); a bad entry is reported (file, entry, field) and the
+# rest renders with the others' corrections.
+run harmonize harmonize "$city/scene.json" -o "$city/corrections.json" --samples 1500
 expect_rc harmonize 0
 expect_out harmonize "[0-9]+ pairs; colour difference"
-check "harmonize wrote the corrections" grep -q '"model": "gain-offset"' "$DIR/corrections.json"
+check "harmonize wrote the corrections" grep -q '"model": "gain-offset"' "$city/corrections.json"
 python3 - "$city" "$badphoto" <<'PY'
 import json, sys
 city, bad = sys.argv[1], sys.argv[2]

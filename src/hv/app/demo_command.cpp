@@ -36,7 +36,7 @@ struct DemoCommandOptions {
   demo::DemoOptions demo;
   int k = 8;
   bool generateOnly = false;
-  bool harmonize = true;
+  bool harmonize = false;
 };
 
 // `histoview harmonize` on the generated city: corrections.json beside scene.json, which then names
@@ -168,8 +168,10 @@ void addDemoCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str();
   cmd->add_option("--k", o->k, "images blended per pixel")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--generate-only", o->generateOnly, "only write the city (scene, photographs, truth)");
-  cmd->add_flag("!--no-harmonize", o->harmonize,
-                "do not estimate the photographs' colour corrections (corrections.json, named by scene.json)");
+  cmd->add_flag("--harmonize", o->harmonize,
+                "also estimate the photographs' colour corrections (corrections.json, named by scene.json) and "
+                "evaluate the blend with and without them (not yet the default: on the demo city the estimate "
+                "is not yet reliable, docs/design.md)");
   setAction(*cmd, exitCode, [o] { return runDemo(*o); });
 }
 

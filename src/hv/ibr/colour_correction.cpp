@@ -56,6 +56,9 @@ bool solveSpd(std::vector<double>& A, std::vector<double>& b, size_t n) {
 constexpr double kTypicalColour = 0.5;
 // The gauge penalty's weight, relative to a photograph's mean pair weight.
 constexpr double kGaugeStiffness = 1e4;
+// The least spread (standard deviation) of a photograph's colours in its pairs, per channel, for
+// its gain to be left to the overlaps alone.
+constexpr double kMinSpread = 0.05;
 
 // The median (the mean of the two middle values for an even count); 0 when empty.
 double median(std::vector<double> v) {
@@ -152,6 +155,28 @@ HarmonizeResult solveColourCorrections(size_t photos, const std::vector<ColourPa
   // pair is r = (c_a - c_b) + dg_a c_a + o_a - dg_b c_b - o_b, linear in x.
   const size_t n = 2 * photos;
   for (int ch = 0; ch < 3; ++ch) {
+    // The spread of each photograph's own colours in its pairs: with little spread, its gain and
+    // offset trade against each other (only g c + o at that colour is seen). Such a gain is held
+    // towards 1 as if its colours spread at least kMinSpread, and it takes no part in the gauge
+    // (a free gain there would carry the gauge anywhere).
+    std::vector<double> sum(photos, 0.0), sum2(photos, 0.0), count(photos, 0.0), variance(photos, 0.0);
+    for (const ColourPair& p : valid) {
+      for (const auto& [i, c] : {std::pair{size_t(p.a), p.ca[ch]}, std::pair{size_t(p.b), p.cb[ch]}}) {
+        sum[i] += c;
+        sum2[i] += c * c;
+        count[i] += 1.0;
+      }
+    }
+    for (size_t i = 0; i < photos; ++i)
+      if (count[i] > 0.0) variance[i] = std::max(0.0, sum2[i] / count[i] - (sum[i] / count[i]) * (sum[i] / count[i]));
+    const double minVariance = kMinSpread * kMinSpread;
+    std::vector<std::vector<size_t>> gauges;
+    for (const std::vector<size_t>& set : sets) {
+      std::vector<size_t> spread;
+      for (size_t i : set)
+        if (variance[i] >= minVariance) spread.push_back(i);
+      gauges.push_back(spread.empty() ? set : spread);
+    }
     std::vector<double> x(n, 0.0);
     std::vector<double> w(valid.size(), 1.0);
     for (int it = 0; it < std::max(s.iterations, 1); ++it) {
@@ -174,7 +199,7 @@ HarmonizeResult solveColourCorrections(size_t photos, const std::vector<ColourPa
       // The gauge while solving: in each connected set, mean gain 1 and mean offset 0, held by a
       // stiff penalty mu ((sum dg_i) t)^2 + mu (sum o_i)^2 (without it the overlaps are as well
       // met by shrinking every gain towards 0, which makes all colours agree).
-      for (const std::vector<size_t>& set : sets) {
+      for (const std::vector<size_t>& set : gauges) {
         double total = 0.0;
         for (size_t i : set) total += weightOf[i];
         const double mu = kGaugeStiffness * std::max(total, 1.0) / double(set.size());
@@ -188,7 +213,8 @@ HarmonizeResult solveColourCorrections(size_t photos, const std::vector<ColourPa
       // least one pair's worth, so that a photograph without pairs stays the identity).
       for (size_t i = 0; i < photos; ++i) {
         const double lambda = s.prior * std::max(weightOf[i], 1.0);
-        H[(2 * i) * n + 2 * i] += lambda * kTypicalColour * kTypicalColour;
+        H[(2 * i) * n + 2 * i] += lambda * kTypicalColour * kTypicalColour +
+                                  std::max(weightOf[i], 1.0) * std::max(0.0, minVariance - variance[i]);
         H[(2 * i + 1) * n + 2 * i + 1] += lambda;
       }
       std::vector<double> sol = g;
@@ -204,14 +230,14 @@ HarmonizeResult solveColourCorrections(size_t photos, const std::vector<ColourPa
     // The gauge kept: in each connected set, the common affine map c -> a c + b that brings the
     // median gain to 1 and the median offset to 0 (the overlaps do not change under it). So the
     // photographs that agree define the reference, and a few cast ones do not shift it.
-    for (const std::vector<size_t>& set : sets) {
+    for (size_t k = 0; k < sets.size(); ++k) {
       std::vector<double> gains, offsets;
-      for (size_t i : set) gains.push_back(1.0 + x[2 * i]);
+      for (size_t i : gauges[k]) gains.push_back(1.0 + x[2 * i]);
       const double mg = median(gains);
       const double a = mg > 0.0 ? 1.0 / mg : 1.0;
-      for (size_t i : set) offsets.push_back(a * x[2 * i + 1]);
+      for (size_t i : gauges[k]) offsets.push_back(a * x[2 * i + 1]);
       const double b = -median(offsets);
-      for (size_t i : set) {
+      for (size_t i : sets[k]) {
         out.corrections[i].gain[ch] = a * (1.0 + x[2 * i]);
         out.corrections[i].offset[ch] = a * x[2 * i + 1] + b;
       }

@@ -38,8 +38,8 @@ struct HarmonizeSettings {
   // A ridge towards the identity, relative to a photograph's pair weight: tiny, only so that the
   // normal equations stay definite (the gauge is fixed apart, see solveColourCorrections).
   double prior = 1e-6;
-  double huber = 0.02;  // colour units: pair residuals beyond it are down-weighted
-  int iterations = 20;  // reweighting iterations
+  double huber = 0.05;  // colour units: pair residuals beyond it are down-weighted
+  int iterations = 10;  // reweighting iterations
 };
 
 // One photograph as the estimation samples it.
