@@ -119,8 +119,8 @@ function(hv_define_modules)
     # Without GLFW and Dear ImGui, `histoview view` says what to install (no_viewer.cpp).
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/viewer_app\\.cpp$" DEPS session)
   endif()
-  hv_module(app DIRS app DEPS camera render PRIVATE_DEPS demo eval gpu image image_native io io_native pose scene
-            session util viewer viewer_desktop PRIVATE_EXTERNAL cli11 json)
+  hv_module(app DIRS app DEPS camera io render PRIVATE_DEPS demo eval gpu image image_native io_native pose scene
+            scene_native session util viewer viewer_desktop PRIVATE_EXTERNAL cli11 json)
   # Header-only helpers of the tests.
   hv_module(testing DIRS testing EXTERNAL glm)
   hv_module(render_testing DIRS render/testing DEPS testing)

@@ -23,6 +23,7 @@ struct HvImage {
   float near, far, biasAbs, biasRel;
   vec2 date;      // the photograph's date interval, days (+-1e7 when open)
   float focal;    // pixels (mean of fx, fy): the geometry weights' footprint
+  vec3 gain, offset;  // colour correction (hv::ColourCorrection)
 };
 
 HvImage hv_fetchImage(int i) {
@@ -37,6 +38,8 @@ HvImage hv_fetchImage(int i) {
   vec4 t8 = texelFetch(u_params, ivec2(8, i), 0);
   vec4 t9 = texelFetch(u_params, ivec2(9, i), 0);
   vec4 t10 = texelFetch(u_params, ivec2(10, i), 0);
+  vec4 t11 = texelFetch(u_params, ivec2(11, i), 0);
+  vec4 t12 = texelFetch(u_params, ivec2(12, i), 0);
   HvImage im;
   // Rows in the texture, GLSL matrices are column-major: transpose.
   im.M = transpose(mat3(t0.xyz, t1.xyz, t2.xyz));
@@ -64,7 +67,16 @@ HvImage hv_fetchImage(int i) {
   im.l1 = t10.x;
   im.l2 = t10.y;
   im.fisheye = t10.z > 0.5;
+  im.gain = t11.rgb;
+  im.offset = t12.rgb;
   return im;
+}
+
+// The photograph's colour correction on a premultiplied texel: straight colour c becomes
+// clamp(gain c + offset, 0, 1), so premultiplied a c becomes clamp(gain (a c) + a offset, 0, a).
+// Twin of hv::ibr::correctTexel (src/hv/ibr/reference_blend.h).
+vec4 hv_correctColour(HvImage im, vec4 texel) {
+  return vec4(clamp(im.gain * texel.rgb + texel.a * im.offset, vec3(0.0), vec3(texel.a)), texel.a);
 }
 
 // Lens distortion, twin of hv::LensDistortion::distort (its comment in camera.h has the models):

@@ -146,7 +146,7 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
   float z;
   if (!hv_applies(im, P, existed, dt, uv, z)) return;
   if (u_occlusion && hv_shadowed(im, z, texture(depth, dt).r, normal, P, u_meshPushBack)) return;
-  hv_accumulate(i, im, textureLod(image, uv, 0.0), u_method == 1, u_debugImage, b);
+  hv_accumulate(i, im, hv_correctColour(im, textureLod(image, uv, 0.0)), u_method == 1, u_debugImage, b);
 }
 #include "generated:naive_binding"
 #endif
@@ -274,7 +274,7 @@ void main() {
     if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
     if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack))
       continue;
-    vec4 texel = hv_samplePhoto(im, uv, P, dPdx, dPdy);
+    vec4 texel = hv_correctColour(im, hv_samplePhoto(im, uv, P, dPdx, dPdy));
     if (texel.a <= 0.0) continue;
     float feather = hv_feather(im, p, pd, uv);
     if (!geometry) {

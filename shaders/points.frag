@@ -143,7 +143,7 @@ void main() {
     } else if (u_occlusion && hv_shadowed(im, zi, storedMap, normal, X, 0.0)) {
       continue;
     }
-    hv_accumulate(i, im, textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0), u_method == 1, -1, blend);
+    hv_accumulate(i, im, hv_correctColour(im, textureLod(u_images, vec3(pd * im.uvScale, im.slice), 0.0)), u_method == 1, -1, blend);
     if (blend.done) break;
   }
   o_color = blend.alpha > 0.0 ? vec4(blend.sum / blend.alpha, 1.0) : vec4(own, 0.5);

@@ -257,6 +257,30 @@ for id in "${ids[@]:1}"; do
   check "bad view camera: good view $id still written" test -s "$DIR/rbadview/$id.png"
 done
 
+# Colour corrections (`histoview harmonize`); a bad entry is reported (file, entry, field) and the
+# rest renders with the others' corrections.
+run harmonize harmonize "$city/scene.json" -o "$city/corrections.json" --samples 1500
+expect_rc harmonize 0
+expect_out harmonize "[0-9]+ pairs; colour difference"
+check "harmonize wrote the corrections" grep -q '"model": "gain-offset"' "$city/corrections.json"
+python3 - "$city" "$badphoto" <<'PY'
+import json, sys
+city, bad = sys.argv[1], sys.argv[2]
+c = json.load(open(f"{city}/corrections.json"))
+for e in c["corrections"]:
+    if e["id"] == bad: e["gain"] = [1, "x", 1]
+json.dump(c, open(f"{city}/corrections-bad.json", "w"))
+scene = json.load(open(f"{city}/scene.json"))
+scene["colour"] = "corrections-bad.json"
+json.dump(scene, open(f"{city}/scene-badcolour.json", "w"))
+PY
+run badcolour render "$city/scene-badcolour.json" --views "$city/views.json" --out "$DIR/rbadcolour" --k 4 --size 160x120
+expect_rc "render with one bad colour correction" 3
+expect_out "render with one bad colour correction" "corrections-bad.json: corrections\\[[0-9]+\\] \\('$badphoto'\\): gain"
+for id in "${ids[@]}"; do
+  check "bad colour correction: view $id still written" test -s "$DIR/rbadcolour/$id.png"
+done
+
 run bad-size render "$city/scene.json" --views "$city/views.json" --out "$DIR/rbadsize" --size 160by120
 expect_rc "render --size 160by120" fail
 

@@ -6,6 +6,7 @@
 #include "hv/app/init_command.h"
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
+#include "hv/app/harmonize_command.h"
 #include "hv/session/outputs.h"
 #include "hv/app/pose_command.h"
 #include "hv/app/render_command.h"
@@ -27,6 +28,7 @@ void registerCommands(CLI::App& app) {
   addInitCommand(app, g_exit);
   addInfoCommand(app, g_exit);
   addCheckCommand(app, g_exit);
+  addHarmonizeCommand(app, g_exit);
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
   addFlyCommand(app, g_exit);

@@ -1,5 +1,5 @@
-// The subcommands of the histoview executable (render, eval, info, check, fly, view, demo, cameras, pose,
-// web-export, settings).
+// The subcommands of the histoview executable (render, eval, info, check, harmonize, fly, view, demo, cameras,
+// pose, path, init, web-export, settings).
 #pragma once
 
 namespace CLI {

@@ -136,6 +136,12 @@ void packImageParams(const ImageParams& p, float* o) {
   o[41] = float(d.l2);
   o[42] = d.model == LensDistortion::Model::Fisheye ? 1.0f : 0.0f;
   o[43] = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    o[44 + c] = float(p.colour.gain[c]);
+    o[48 + c] = float(p.colour.offset[c]);
+  }
+  o[47] = 0.0f;
+  o[51] = 0.0f;
 }
 
 }  // namespace hv::ibr

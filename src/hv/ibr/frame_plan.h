@@ -74,6 +74,9 @@ struct BlendSettings {
   BlendMethod method = BlendMethod::Blend;
   bool occlusion = true;      // depth-map (shadow) test
   bool masks = true;
+  // Each photograph's colour correction (Photo::colour) applied to its texels; without corrections
+  // in the scene, all are the identity.
+  bool colourCorrection = true;
   std::vector<std::string> exclude;  // photo ids left out (leave-one-out)
   // Only photographs that see part of the view frustum (clipped to the scene bounds) are
   // candidates, so the K slots go to images that can texture the view (docs/design.md, step 1).
@@ -125,7 +128,9 @@ struct SliceLayout {
 //            undated), focal length (pixels, mean of fx and fy), 0
 //   t9     : distortion scale (xy), tangential p1, p2
 //   t10    : fish-eye affine l1, l2, model (0 polynomial, 1 fish-eye), 0
-inline constexpr int kTexelsPerImage = 11;
+//   t11    : colour gain (rgb), 0       (hv::ColourCorrection; identity when switched off)
+//   t12    : colour offset (rgb), 0
+inline constexpr int kTexelsPerImage = 13;
 // Stands for an open end of a date interval on the GPU (days; floats hold whole days exactly up
 // to 2^24, so day numbers of the last and next few millennia are exact).
 inline constexpr double kOpenDay = 1e7;
@@ -152,6 +157,7 @@ struct ImageParams {
   PinholeFrustum depth;
   DepthBias bias;
   DateInterval date;  // the photograph's (open when undated)
+  ColourCorrection colour;  // applied to its texels (identity: none)
 };
 
 ImageParams makeImageParams(const Camera& camera, const glm::dvec3& origin, const SliceLayout& layout, double weight,

@@ -128,6 +128,19 @@ TEST(PackImageParams, LayoutMatchesTheShaderReader) {
   EXPECT_FLOAT_EQ(o[36], 1.0f);  // a pixel polynomial: scale 1, no tangential or affine terms
   EXPECT_FLOAT_EQ(o[38], 0.0f);
   EXPECT_FLOAT_EQ(o[42], 0.0f);  // polynomial model
+  for (int c = 0; c < 3; ++c) {  // no correction: gain 1, offset 0 (t11, t12)
+    EXPECT_FLOAT_EQ(o[44 + c], 1.0f);
+    EXPECT_FLOAT_EQ(o[48 + c], 0.0f);
+  }
+  ImageParams corrected = p;
+  corrected.colour = {{1.25, 0.5, 2.0}, {-0.125, 0.25, 0.0625}};
+  packImageParams(corrected, o);
+  EXPECT_FLOAT_EQ(o[44], 1.25f);
+  EXPECT_FLOAT_EQ(o[45], 0.5f);
+  EXPECT_FLOAT_EQ(o[46], 2.0f);
+  EXPECT_FLOAT_EQ(o[48], -0.125f);
+  EXPECT_FLOAT_EQ(o[49], 0.25f);
+  EXPECT_FLOAT_EQ(o[50], 0.0625f);
   cam.distortion->model = LensDistortion::Model::Fisheye;
   cam.distortion->scale = {700.0, 710.0};
   cam.distortion->p2 = 0.25;

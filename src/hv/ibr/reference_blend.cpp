@@ -36,6 +36,11 @@ double featherLevel(const ImageParams& im, double featherPx, int sliceWidth) {
   return std::max(0.0, std::log2(std::max(featherPx * im.layout.uvScale.x * sliceWidth, 1.0)));
 }
 
+glm::dvec4 correctTexel(const ColourCorrection& colour, const glm::dvec4& texel) {
+  const glm::dvec3 c = colour.gain * glm::dvec3(texel) + texel.a * colour.offset;
+  return {glm::clamp(c, glm::dvec3(0.0), glm::dvec3(texel.a)), texel.a};
+}
+
 BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& images, BlendMethod method,
                            const TextureLookup& texture, const VisibilityTest& visible, Selection selection, int k,
                            const BlendOptions& opt) {
@@ -52,7 +57,7 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
     if (!hit) continue;
     if (visible && !visible(i, P, hit->depth)) continue;
     const glm::dvec2 uv = hit->pxDistorted * im.layout.uvScale;
-    const glm::dvec4 texel = texture(im.layout.slice, uv);
+    const glm::dvec4 texel = correctTexel(im.colour, texture(im.layout.slice, uv));
     if (texel.a <= 0.0) continue;
     if (opt.featherPx > 0.0) {
       feather[i] = featherFactor(borderDistance(im, *hit), opt.featherPx);

@@ -60,6 +60,10 @@ double borderDistance(const ImageParams& image, const ImageHit& hit);
 // The mip level whose texels span the feather width: log2(featherPx * uvScale.x * sliceWidth), >= 0.
 double featherLevel(const ImageParams& image, double featherPx, int sliceWidth);
 
+// A premultiplied texel through the image's colour correction: straight colour c becomes
+// clamp(gain c + offset, 0, 1). Twin of hv_correctColour in shaders/ibr_common.glsl.
+glm::dvec4 correctTexel(const ColourCorrection& colour, const glm::dvec4& texel);
+
 // `images` in ascending distance to the view. Global selection: each image's weight is its w_i.
 // Region selection (Buehler et al. 2001's per-pixel best k, Brédif 2013's weights): each image's
 // weight is f(d_i); the first `k` images that pass every test (projection, visibility, mask

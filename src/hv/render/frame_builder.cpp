@@ -368,6 +368,7 @@ void FrameBuilder::packParams(Frame& f) {
                                            f.plan.images[i].weight, fr, bias));
     params_.back().photo = photo;
     params_.back().date = photoDate(scene_.photos[size_t(photo)]);
+    if (settings_.blend.colourCorrection) params_.back().colour = scene_.photos[size_t(photo)].colour;
     f.packedParams.resize(f.packedParams.size() + ibr::kTexelsPerImage * 4);
     ibr::packImageParams(params_.back(), f.packedParams.data() + f.packedParams.size() - ibr::kTexelsPerImage * 4);
   }

@@ -222,6 +222,44 @@ TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
   }
 }
 
+// Colour corrections (hv::ColourCorrection) applied by the shader as by the CPU reference
+// (ibr::correctTexel), clamping included; `colour-correction off` gives the photographs back.
+TEST_F(RendererGlTest, ColourCorrectionsMatchCpuReference) {
+  Scene scene = testing::streetScene();
+  const glm::dvec3 o = kStreetOrigin;
+  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
+           testing::patternImage(160, 120, 1));
+  addPhoto(scene, testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150),
+           testing::patternImage(200, 150, 2));
+  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
+           testing::patternImage(120, 120, 3));
+  scene.photos[0].colour = {{0.8, 1.3, 1.0}, {0.05, -0.1, 0.0}};  // green clips at 1 on bright texels
+  scene.photos[2].colour = {{1.1, 0.9, 0.6}, {0.0, 0.05, 0.2}};
+  RenderSettings settings;
+  settings.blend.k = 3;
+  settings.blend.sigma = 5.0;
+  settings.depthSize = 512;
+  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  compareWithReference(scene, settings, view, 3);
+
+  // On and off: the corrections reach the parameters, and the picture changes.
+  Diagnostics diag;
+  Renderer renderer(scene, settings, diag);
+  const Image8 on = renderer.render(view).rgba;
+  bool corrected = false;
+  for (const auto& p : renderer.lastImageParams()) corrected |= !p.colour.isIdentity();
+  EXPECT_TRUE(corrected);
+  renderer.settings().blend.colourCorrection = false;
+  const Image8 off = renderer.render(view).rgba;
+  for (const auto& p : renderer.lastImageParams()) EXPECT_TRUE(p.colour.isIdentity());
+  double diff = 0.0;
+  for (size_t i = 0; i < on.data.size(); ++i) diff += std::abs(int(on.data[i]) - int(off.data[i]));
+  // Mean absolute byte difference over the whole RGBA image (uncovered pixels included): 1.5 measured.
+  EXPECT_GT(diff / double(on.data.size()), 0.5);
+  settings.blend.colourCorrection = false;
+  compareWithReference(scene, settings, view, 3);
+}
+
 // Region selection where it differs from the global one: five photographs, K = 2, so that where
 // the near building hides some of them from the far façade, others take their place per pixel.
 TEST_F(RendererGlTest, RegionSelectionMatchesCpuReferenceAtSampledPixels) {

@@ -205,6 +205,9 @@ std::vector<Setting> makeSchema() {
                     [](auto& s) -> auto& { return s.blend.occlusion; }));
   t.push_back(field("masks", blend, "apply the photographs' masks (off: they are decoded again without)",
                     [](auto& s) -> auto& { return s.blend.masks; }));
+  t.push_back(field("colour-correction", blend, "apply each photograph's colour correction (gain and offset per "
+                    "channel) from the file scene.json names (\"colour\", written by histoview harmonize); a "
+                    "scene without one is unchanged", [](auto& s) -> auto& { return s.blend.colourCorrection; }));
   t.push_back(field("frustum-filter", blend, "only photographs that see part of the view frustum are candidates",
                     [](auto& s) -> auto& { return s.blend.frustumFilter; }));
   t.push_back(field("exclude", blend, "photograph ids left out (e.g. leave-one-out)",

@@ -18,11 +18,23 @@ namespace hv {
 
 class TerrainQuadtree;  // hv/scene/terrain_quadtree.h
 
+// A photograph's colour correction (docs/design.md, "Photographs that agree in colour"): the colour
+// c sampled from it (straight, not premultiplied, in [0, 1]) is shown as gain * c + offset, channel
+// by channel, clamped to [0, 1]. Estimated from the overlaps between photographs
+// (hv/ibr/colour_correction.h), read from the file scene.json names ("colour").
+struct ColourCorrection {
+  glm::dvec3 gain{1.0};
+  glm::dvec3 offset{0.0};
+  bool isIdentity() const { return gain == glm::dvec3(1.0) && offset == glm::dvec3(0.0); }
+  glm::dvec3 apply(const glm::dvec3& c) const { return glm::clamp(gain * c + offset, 0.0, 1.0); }
+};
+
 struct Photo {
   Camera camera;
   std::string imagePath;  // absolute or relative to the working directory (resolved at load)
   std::string maskPath;   // empty: no mask
   std::string date;       // ISO 8601 as given; empty: undated
+  ColourCorrection colour;  // identity unless scene.json names corrections
 };
 
 struct Scene {
@@ -61,6 +73,8 @@ struct Scene {
   // default). A photograph does not texture a building that did not exist at its date.
   std::vector<DateInterval> buildingValidity;
   std::vector<Photo> photos;
+  // scene.json "colour": the colour corrections file it names (resolved), empty when none.
+  std::string colourPath;
 
   Aabb bounds() const;  // geometry and camera centres
   // Median distance from each camera centre to its nearest other centre: the scene's own scale

@@ -1,5 +1,7 @@
 #include "hv/io/native/scene_loader.h"
 
+#include "hv/io/colour_corrections_json.h"
+
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/cityjson.h"
 #include "hv/io/native/colmap_cameras.h"
@@ -212,7 +214,7 @@ PointCloud readPointFile(const std::string& p) {
 // with the nearest known key.
 void refuseUnknownKeys(const json& doc, const std::string& path) {
   static const std::vector<std::string> kTop = {"crs",       "origin", "up",     "terrain",
-                                                "buildings", "mesh",   "points", "cameras"};
+                                                "buildings", "mesh",   "points", "cameras", "colour"};
   static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
       {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
@@ -571,6 +573,20 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");
+    }
+  }
+
+  // The photographs' colour corrections (`histoview harmonize`); a broken file or entry leaves the
+  // photographs it concerns with their own colours.
+  if (doc.contains("colour")) {
+    try {
+      if (!doc["colour"].is_string() || doc["colour"].get<std::string>().empty())
+        throw InputError(path + ": colour: expected the path of a colour corrections file (histoview harmonize)");
+      const fs::path p = doc["colour"].get<std::string>();
+      scene.colourPath = (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+      applyColourCorrections(scene.photos, readColourCorrections(scene.colourPath, diag), scene.colourPath, diag);
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (colour corrections left out)");
     }
   }
 

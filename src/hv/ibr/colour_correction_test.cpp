@@ -1,0 +1,195 @@
+// Colour corrections from the overlaps (hv/ibr/colour_correction.h): synthetic photographs of a
+// known surface colour, ray cast and given known casts, are brought back to agree.
+#include "hv/ibr/colour_correction.h"
+
+#include "hv/ibr/reference_blend.h"
+#include "hv/scene/native/raycast.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hv::ibr {
+namespace {
+
+// A 60 m square of ground with a 6 x 6 x 8 m box in the middle: the box hides parts of the ground
+// (and of itself) from each camera, so the depth test has work to do.
+Mesh groundAndBox() {
+  Mesh m;
+  auto quad = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
+    const auto base = std::uint32_t(m.positions.size());
+    for (const glm::dvec3& p : {a, b, c, d}) m.positions.push_back(p);
+    m.triangles.push_back({base, base + 1, base + 2});
+    m.triangles.push_back({base, base + 2, base + 3});
+  };
+  quad({-30, -30, 0}, {30, -30, 0}, {30, 30, 0}, {-30, 30, 0});
+  const double h = 8.0;
+  quad({-3, -3, 0}, {3, -3, 0}, {3, -3, h}, {-3, -3, h});
+  quad({3, -3, 0}, {3, 3, 0}, {3, 3, h}, {3, -3, h});
+  quad({3, 3, 0}, {-3, 3, 0}, {-3, 3, h}, {3, 3, h});
+  quad({-3, 3, 0}, {-3, -3, 0}, {-3, -3, h}, {-3, 3, h});
+  quad({-3, -3, h}, {3, -3, h}, {3, 3, h}, {-3, 3, h});
+  return m;
+}
+
+// The true colour of a surface point, in [0.2, 0.8]; the box is far from the ground's colours so
+// that a pair mixing the two shows.
+glm::dvec3 albedo(const glm::dvec3& p) {
+  if (p.z > 1e-6) return {0.75 + 0.05 * std::sin(0.9 * p.z), 0.25 + 0.05 * std::cos(0.8 * (p.x + p.y)), 0.2};
+  return {0.5 + 0.3 * std::sin(0.31 * p.x) * std::cos(0.23 * p.y), 0.5 + 0.3 * std::cos(0.27 * p.x + 0.4),
+          0.5 + 0.3 * std::sin(0.19 * p.y - 0.2 * p.x)};
+}
+
+struct Cast {
+  glm::dvec3 gain{1.0}, offset{0.0};
+  glm::dvec3 apply(const glm::dvec3& c) const { return gain * c + offset; }
+};
+
+// Premultiplied RGBA8 photograph of the scene (one ray per pixel centre), through `cast`.
+Image8 photograph(const Camera& cam, const RayCaster& caster, const Cast& cast) {
+  Image8 img(cam.width, cam.height, 4, 0);
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const auto hit = caster.intersect(cam.center, cam.rayDirection({x + 0.5, y + 0.5}));
+      glm::dvec3 c = hit ? cast.apply(albedo(hit->position)) : glm::dvec3(0.0);
+      std::uint8_t* o = img.px(x, y);
+      for (int k = 0; k < 3; ++k) o[k] = std::uint8_t(std::lround(std::clamp(c[k], 0.0, 1.0) * 255.0));
+      o[3] = hit ? 255 : 0;
+    }
+  return img;
+}
+
+struct Rig {
+  Mesh mesh = groundAndBox();
+  RayCaster caster{mesh};
+  std::vector<Camera> cameras;
+  std::vector<Image8> images;
+  std::vector<OverlapImage> overlap;
+
+  explicit Rig(const std::vector<Cast>& casts) {
+    for (size_t i = 0; i < casts.size(); ++i) {
+      const double a = 2.0 * M_PI * double(i) / double(casts.size());
+      const glm::dvec3 c(22.0 * std::cos(a), 22.0 * std::sin(a), 9.0 + double(i % 2));
+      cameras.push_back(lookAtCamera("p" + std::to_string(i), c, {0.0, 0.0, 2.0}, 160, 120, 110.0));
+      images.push_back(photograph(cameras.back(), caster, casts[i]));
+    }
+    for (size_t i = 0; i < casts.size(); ++i)
+      overlap.push_back({cameras[i], &images[i], glm::dvec2(1.0 / 160, 1.0 / 120)});
+  }
+};
+
+// How far the correction is from undoing the cast: max over colours c of |h(cast(c)) - ref(c)|
+// per channel, c on a grid of the colours the photographs hold ([0.2, 0.8]).
+double worstError(const ColourCorrection& h, const Cast& cast, const ColourCorrection& ref = {}) {
+  double worst = 0.0;
+  for (double v = 0.2; v <= 0.8 + 1e-9; v += 0.05) {
+    const glm::dvec3 c(v);
+    const glm::dvec3 d = (h.gain * cast.apply(c) + h.offset) - (ref.gain * c + ref.offset);
+    worst = std::max({worst, std::abs(d.r), std::abs(d.g), std::abs(d.b)});
+  }
+  return worst;
+}
+
+const std::vector<Cast> kCasts = {
+    {}, {}, {}, {}, {{0.8, 1.1, 0.9}, {0.1, -0.05, 0.04}}, {}, {{1.15, 0.9, 0.7}, {-0.08, 0.06, 0.15}}, {}};
+
+TEST(ColourCorrection, RecoversKnownCastsWhenMostPhotographsAgree) {
+  const Rig rig(kCasts);
+  HarmonizeSettings s;
+  s.samplesPerImage = 3000;
+  const auto pairs = collectColourPairs(rig.overlap, rig.caster, s);
+  ASSERT_GT(pairs.size(), 5000u);
+  const HarmonizeResult r = solveColourCorrections(kCasts.size(), pairs, s);
+  ASSERT_EQ(r.corrections.size(), kCasts.size());
+  for (size_t i = 0; i < kCasts.size(); ++i) {
+    EXPECT_GT(r.pairsPerPhoto[i], 1000) << i;
+    // The goal: the known cast recovered to within 2/255 per channel.
+    EXPECT_LE(worstError(r.corrections[i], kCasts[i]), 2.0 / 255.0)
+        << "photograph " << i << ": gain " << r.corrections[i].gain.r << " " << r.corrections[i].gain.g << " "
+        << r.corrections[i].gain.b << ", offset " << r.corrections[i].offset.r << " " << r.corrections[i].offset.g
+        << " " << r.corrections[i].offset.b;
+  }
+  // The cast photograph 4: gain 1/0.8 on red, offset -0.1/0.8, as computed by hand.
+  EXPECT_NEAR(r.corrections[4].gain.r, 1.25, 0.02);
+  EXPECT_NEAR(r.corrections[4].offset.r, -0.125, 0.01);
+  EXPECT_GT(r.rmsBefore, 0.02);
+  EXPECT_LT(r.inlierRmsAfter, 2.0 / 255.0);
+}
+
+// Every photograph cast differently: the overlaps fix the corrections only up to one common affine
+// map per channel (the gauge), which the prior settles. Relative to photograph 0's corrected
+// colours, each photograph's are recovered.
+TEST(ColourCorrection, RecoversRelativeCastsWhenNoneAgree) {
+  std::vector<Cast> casts;
+  for (int i = 0; i < 6; ++i)
+    casts.push_back({glm::dvec3(0.85 + 0.05 * i, 1.1 - 0.04 * i, 0.9 + 0.03 * (i % 3)),
+                     glm::dvec3(0.02 * (i % 4) - 0.03, 0.05 - 0.015 * i, 0.01 * i)});
+  const Rig rig(casts);
+  HarmonizeSettings s;
+  s.samplesPerImage = 3000;
+  const HarmonizeResult r = solveColourCorrections(casts.size(), collectColourPairs(rig.overlap, rig.caster, s), s);
+  // ref(c) = h_0(cast_0(c)): what photograph 0 shows for a true colour c.
+  ColourCorrection ref;
+  ref.gain = r.corrections[0].gain * casts[0].gain;
+  ref.offset = r.corrections[0].gain * casts[0].offset + r.corrections[0].offset;
+  for (size_t i = 1; i < casts.size(); ++i) EXPECT_LE(worstError(r.corrections[i], casts[i], ref), 2.0 / 255.0) << i;
+}
+
+// The depth test: a point one photograph sees is paired only with photographs that see it too.
+// Without it (a tolerance that turns the ray back off), points on the box's far side and on the
+// ground behind it are paired with what hides them, and many pairs disagree.
+TEST(ColourCorrection, PairsOnlyWhatBothPhotographsSee) {
+  const Rig rig(std::vector<Cast>(6));
+  HarmonizeSettings s;
+  s.samplesPerImage = 2000;
+  auto disagreeing = [](const std::vector<ColourPair>& pairs) {
+    size_t bad = 0;
+    for (const ColourPair& p : pairs) {
+      const glm::dvec3 d = glm::abs(p.ca - p.cb);
+      if (std::max({d.r, d.g, d.b}) > 0.05) ++bad;
+    }
+    return double(bad) / double(std::max<size_t>(pairs.size(), 1));
+  };
+  const auto tested = collectColourPairs(rig.overlap, rig.caster, s);
+  s.occlusionTolerance = 2.0;
+  const auto untested = collectColourPairs(rig.overlap, rig.caster, s);
+  ASSERT_GT(tested.size(), 2000u);
+  EXPECT_GT(untested.size(), tested.size() * 11 / 10);
+  // What still disagrees with the test: texels on the box's silhouettes, which mix box and ground
+  // (bilinear), about 1 %.
+  EXPECT_LT(disagreeing(tested), 0.02);
+  EXPECT_GT(disagreeing(untested), 5.0 * disagreeing(tested)) << disagreeing(untested);
+  // Uncast photographs: the corrections are the identity.
+  const HarmonizeResult r = solveColourCorrections(6, tested, s);
+  for (const ColourCorrection& c : r.corrections) EXPECT_LE(worstError(c, Cast{}), 1.0 / 255.0);
+}
+
+// The correction on a premultiplied texel (twin of hv_correctColour): straight colour c = rgb / a.
+TEST(ColourCorrection, CorrectsPremultipliedTexels) {
+  const ColourCorrection h{{2.0, 0.5, 1.0}, {0.1, 0.0, -0.25}};
+  // a = 0.5, straight (0.4, 0.8, 0.2) -> (0.9, 0.4, -0.05 -> 0), premultiplied (0.45, 0.2, 0).
+  const glm::dvec4 t = correctTexel(h, {0.2, 0.4, 0.1, 0.5});
+  EXPECT_NEAR(t.r, 0.45, 1e-12);
+  EXPECT_NEAR(t.g, 0.2, 1e-12);
+  EXPECT_NEAR(t.b, 0.0, 1e-12);
+  EXPECT_EQ(t.a, 0.5);
+  // Straight 0.8 red -> 1.7, clamped to 1: premultiplied a.
+  EXPECT_NEAR(correctTexel(h, {0.4, 0.0, 0.0, 0.5}).r, 0.5, 1e-12);
+  EXPECT_EQ(correctTexel(h, {0.0, 0.0, 0.0, 0.0}), glm::dvec4(0.0));
+  EXPECT_EQ(correctTexel(ColourCorrection{}, {0.1, 0.2, 0.3, 0.4}), glm::dvec4(0.1, 0.2, 0.3, 0.4));
+}
+
+TEST(ColourCorrection, PhotographWithoutPairsKeepsTheIdentity) {
+  const std::vector<ColourPair> pairs = {{0, 1, {0.5, 0.5, 0.5}, {0.6, 0.6, 0.6}},
+                                         {1, 0, {0.3, 0.2, 0.1}, {0.2, 0.1, 0.0}},
+                                         {7, 0, {0.3, 0.2, 0.1}, {0.2, 0.1, 0.0}}};  // 7: no such photograph
+  const HarmonizeResult r = solveColourCorrections(3, pairs, HarmonizeSettings{});
+  ASSERT_EQ(r.corrections.size(), 3u);
+  EXPECT_TRUE(r.corrections[2].isIdentity());
+  EXPECT_EQ(r.pairsPerPhoto[2], 0);
+  EXPECT_EQ(r.pairsPerPhoto[0], 2);
+  EXPECT_TRUE(solveColourCorrections(0, pairs, HarmonizeSettings{}).corrections.empty());
+}
+
+}  // namespace
+}  // namespace hv::ibr
