@@ -6,7 +6,7 @@
 #include "hv/image/native/png_write.h"
 #include "hv/io/native/georef.h"
 #include "hv/io/native/scene_loader.h"
-#include "hv/render/frame_builder.h"
+#include "hv/render/frame.h"
 #include "hv/render/settings.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/session/outputs.h"
@@ -109,10 +109,7 @@ void printTilesAndMemory(const Scene& scene) {
     w = std::max(1, int(std::floor(w * s)));
     h = std::max(1, int(std::floor(h * s)));
   }
-  int depth = 16;
-  for (const Photo& p : scene.photos)
-    depth = std::max(depth, render::depthMapSizeFor(p.camera.width, p.camera.height, cap));
-  depth = std::min(depth, settings.depthSize);
+  const int depth = settings.depthSize;  // one size for every photograph
   const std::size_t image = std::size_t(w) * h * 4, depthBytes = std::size_t(depth) * depth * 4;
   const int slots = std::max(
       1, std::min({settings.maxSlices, int(std::max<std::size_t>(1, settings.memoryBudgetBytes / (image + depthBytes))),
@@ -120,9 +117,7 @@ void printTilesAndMemory(const Scene& scene) {
   std::cout << "memory     images: " << slots << " slots of " << w << "x" << h << " RGBA, GPU " << mib(image * slots)
             << "\n";
   std::cout << "memory     depth maps: " << slots << " of " << depth << "x" << depth << " float, GPU "
-            << mib(depthBytes * slots)
-            << " (each photograph's size: the power of two at or above its larger side, at most --depth-size "
-            << settings.depthSize << ")\n";
+            << mib(depthBytes * slots) << " (--depth-size, the same for every photograph)\n";
 }
 
 int printInfo(const std::string& scenePath, const Scene& scene, const CheckReport& report);

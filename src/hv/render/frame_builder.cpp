@@ -38,13 +38,6 @@ FrameBuilder::FrameBuilder(const Scene& scene, const RenderSettings& settings, D
 
 FrameBuilder::~FrameBuilder() = default;
 
-int depthMapSizeFor(int width, int height, int maxSide) {
-  const int side = std::clamp(std::max(width, height), 1, std::max(1, maxSide));
-  int size = 16;
-  while (size < side && size < (1 << 30)) size *= 2;
-  return size;
-}
-
 void FrameBuilder::allocateSlots() {
   int w = 1, h = 1;
   for (const auto& p : scene_.photos) {
@@ -62,11 +55,6 @@ void FrameBuilder::allocateSlots() {
   if (layout_.depthSize != settings_.depthSize)
     diag_.warn("depth-map size " + std::to_string(settings_.depthSize) + " exceeds MAX_TEXTURE_SIZE; using " +
                std::to_string(layout_.depthSize));
-  // Sized from the photographs (depthMapSizeFor): the array has one size, the largest any of them
-  // needs, at most depth-size.
-  int needed = 16;
-  for (const auto& p : scene_.photos) needed = std::max(needed, depthMapSizeFor(p.camera.width, p.camera.height, cap));
-  layout_.depthSize = std::min(layout_.depthSize, needed);
   const std::size_t perSlot =
       std::size_t(w) * h * 4 + std::size_t(layout_.depthSize) * layout_.depthSize * 4;
   const int byMemory = int(std::max<std::size_t>(1, settings_.memoryBudgetBytes / perSlot));

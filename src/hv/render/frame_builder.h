@@ -18,11 +18,6 @@
 
 namespace hv::render {
 
-// The depth map a photograph of width x height pixels needs: the power of two at or above its
-// larger side (as drawn: scaled to fit `maxSide`, the slices' cap), at least 16. A depth map much
-// finer than its photograph adds no visible occlusion detail and costs 4 bytes a texel.
-int depthMapSizeFor(int width, int height, int maxSide);
-
 class FrameBuilder {
  public:
   // Builds the geometry (and, when enabled, the points) and allocates the slots on `backend`.

@@ -89,33 +89,6 @@ class FrameBuilderTest : public ::testing::Test {
   NullBackend backend_;
 };
 
-TEST(DepthMapSize, PowerOfTwoAtOrAboveTheLargerSide) {
-  EXPECT_EQ(depthMapSizeFor(320, 240, 4096), 512);
-  EXPECT_EQ(depthMapSizeFor(400, 300, 4096), 512);
-  EXPECT_EQ(depthMapSizeFor(512, 512, 4096), 512);
-  EXPECT_EQ(depthMapSizeFor(513, 100, 4096), 1024);
-  EXPECT_EQ(depthMapSizeFor(6000, 4000, 4096), 4096);  // as drawn: the slices' cap
-  EXPECT_EQ(depthMapSizeFor(8, 6, 4096), 16);
-  EXPECT_EQ(depthMapSizeFor(0, 0, 4096), 16);
-}
-
-// The depth maps' array takes the size the largest photograph needs, at most depth-size.
-TEST_F(FrameBuilderTest, DepthMapsSizedFromThePhotographs) {
-  settings_.depthSize = 1024;
-  {
-    FrameBuilder b(scene_, settings_, diag_, backend_);  // photographs of 32 x 24
-    EXPECT_EQ(backend_.layout().depthSize, 32);
-  }
-  scene_.photos[3].camera = scene_.photos[3].camera.resized(96, 72);
-  {
-    FrameBuilder b(scene_, settings_, diag_, backend_);
-    EXPECT_EQ(backend_.layout().depthSize, 128);
-  }
-  settings_.depthSize = 64;  // the cap
-  FrameBuilder b(scene_, settings_, diag_, backend_);
-  EXPECT_EQ(backend_.layout().depthSize, 64);
-}
-
 TEST_F(FrameBuilderTest, BatchFrameLoadsAndDrawsEverySelectedImage) {
   FrameBuilder builder(scene_, settings_, diag_, backend_);
   const Frame f = builder.build(view(), FrameMode::Batch, false);
@@ -127,11 +100,10 @@ TEST_F(FrameBuilderTest, BatchFrameLoadsAndDrawsEverySelectedImage) {
   EXPECT_EQ(builder.stats().imagesWaiting, 0);
   EXPECT_EQ(builder.stats().depthMapsThisFrame, kPhotos);
   EXPECT_TRUE(builder.converged());
-  // Every map is drawn into the slot its photograph was uploaded to, at the size the photographs
-  // need (32 x 24: 32), below depth-size.
+  // Every map is drawn into the slot its photograph was uploaded to, at the requested size.
   for (const DepthMapJob& job : backend_.depthMaps) {
     EXPECT_EQ(job.slot, builder.slotOf(job.photo));
-    EXPECT_EQ(job.size, 32);
+    EXPECT_EQ(job.size, 64);
   }
   // A second frame of the same view loads and draws nothing.
   builder.build(view(), FrameMode::Batch, false);

@@ -109,7 +109,7 @@ struct DebugSettings {
 struct RenderSettings {
   Binding binding = Binding::Array;
   ibr::BlendSettings blend;
-  int depthSize = 1024;               // largest depth-map resolution (square); see depthMapSizeFor
+  int depthSize = 1024;               // depth-map resolution (square)
   // [0, 1] RGB where no image contributes and untextured.shading (surfaces) or untextured.sky
   // (pixels without geometry) is off, in the debug views, and outside a distorted view's lens domain.
   glm::dvec3 background{0.0};

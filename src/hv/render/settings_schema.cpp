@@ -210,10 +210,7 @@ std::vector<Setting> makeSchema() {
   t.push_back(field("dated-only", time, "leave out undated photographs (kept by default)",
                     [](auto& s) -> auto& { return s.blend.datedOnly; }));
 
-  t.push_back(field("depth-size", depth,
-                    "largest depth-map resolution (square); the maps take the power of two at or above the "
-                    "largest photograph's larger side, up to this",
-                    [](auto& s) -> auto& { return s.depthSize; })
+  t.push_back(field("depth-size", depth, "depth-map resolution (square)", [](auto& s) -> auto& { return s.depthSize; })
                   .unit("px").range(16, 16384).slider(256, 4096, true).reload());
   t.push_back(field("depth-maps-per-frame", depth, "progressive frames: depth maps rendered per frame, nearest "
                     "camera first (Dmax)", [](auto& s) -> auto& { return s.depthMapsPerFrame; })
