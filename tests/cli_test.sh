@@ -91,6 +91,11 @@ expect_out info "buildings +[1-9][0-9]* triangles"
 expect_out info "terrain +[1-9][0-9]* vertices"
 expect_out info "MAX_ARRAY_TEXTURE_LAYERS [0-9]+"
 expect_out info "MAX_TEXTURE_SIZE [0-9]+"
+expect_out info "tiles +terrain meshed whole; buildings [1-9][0-9]* of [1-9][0-9]* loaded"
+expect_out info "note: buildings: .*indexed in memory"
+expect_out info "memory +geometry: [1-9][0-9]* triangles, CPU [0-9.]+ MiB, GPU [0-9.]+ MiB"
+expect_out info "memory +images: [1-9][0-9]* slots of [0-9]+x[0-9]+ RGBA, GPU [0-9.]+ MiB"
+expect_out info "memory +depth maps: [1-9][0-9]* of 1024x1024 float, GPU [0-9.]+ MiB"
 
 # --- render with coverage and the count debug output
 r=$DIR/r

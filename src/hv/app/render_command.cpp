@@ -1,14 +1,17 @@
 #include "hv/app/render_command.h"
 
-#include "hv/session/session.h"
 #include "hv/app/check_command.h"
-#include "hv/session/outputs.h"
 #include "hv/gpu/gl.h"
 #include "hv/image/colormap.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/native/georef.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/render/frame.h"
+#include "hv/render/settings.h"
+#include "hv/scene/terrain_quadtree.h"
+#include "hv/session/outputs.h"
+#include "hv/session/session.h"
 #include "hv/util/log.h"
-#include "hv/image/native/png_write.h"
 #include "hv/scene/scene_scale.h"
 #include "hv/viewer/navigation.h"
 
@@ -55,6 +58,71 @@ void printPoints(const PointCloud& points) {
       if (h[size_t(c)]) std::cout << " " << c << ":" << h[size_t(c)];
     std::cout << "\n";
   }
+}
+
+std::string mib(std::size_t bytes) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(1) << double(bytes) / (1024.0 * 1024.0) << " MiB";
+  return o.str();
+}
+
+// The geometry tiles and the memory the renderer will take with the default settings, one line
+// each (estimates: the frame builder's buffers and slot arrays, hv/render/frame_builder.cpp).
+void printTilesAndMemory(const Scene& scene) {
+  std::cout << "tiles      terrain ";
+  if (scene.terrainTiles) {
+    std::vector<Camera> cameras;
+    for (const Photo& p : scene.photos) cameras.push_back(p.camera);
+    const TerrainSelection sel = scene.terrainTiles->select(cameras, kTerrainTolerancePx, kTerrainTriangleBudget);
+    std::map<int, int> byLevel;
+    for (const TerrainNodeId n : sel.nodes) ++byLevel[TerrainQuadtree::levelOf(n)];
+    std::cout << sel.nodes.size() << " (by level:";
+    for (const auto& [level, n] : byLevel) std::cout << " " << level << ":" << n;
+    std::cout << ")";
+  } else {
+    std::cout << (scene.terrain.empty() ? "none" : "meshed whole");
+  }
+  const Scene::BuildingTilesInfo& b = scene.buildingTilesInfo;
+  std::cout << "; buildings ";
+  if (b.total)
+    std::cout << b.loaded << " of " << b.total << " loaded (" << std::setprecision(4) << b.tileSize << " units a side; "
+              << b.selection << ")";
+  else
+    std::cout << "none";
+  std::cout << "\n";
+  if (!b.note.empty()) std::cout << "  note: buildings: " << b.note << "\n";
+
+  const Mesh* meshes[] = {&scene.terrain, &scene.buildings, &scene.mesh};
+  std::size_t vertices = 0, triangles = 0, cpu = 0;
+  for (const Mesh* m : meshes) {
+    vertices += m->positions.size();
+    triangles += m->triangles.size();
+    cpu += m->positions.size() * sizeof(glm::dvec3) + m->triangles.size() * sizeof(glm::uvec3) +
+           m->triangleTags.size() * sizeof(std::uint32_t);
+  }
+  const std::size_t gpu =
+      vertices * render::GeometryBuffers::kStride * sizeof(float) + triangles * 3 * sizeof(std::uint32_t);
+  std::cout << "memory     geometry: " << triangles << " triangles, CPU " << mib(cpu) << ", GPU " << mib(gpu) << "\n";
+  // The slot arrays as FrameBuilder::allocateSlots sizes them (default settings; the GL limits
+  // apart, printed below).
+  const render::RenderSettings settings;
+  int w = 1, h = 1;
+  for (const Photo& p : scene.photos) w = std::max(w, p.camera.width), h = std::max(h, p.camera.height);
+  const int cap = settings.maxSliceSize;
+  if (w > cap || h > cap) {
+    const double s = std::min(double(cap) / w, double(cap) / h);
+    w = std::max(1, int(std::floor(w * s)));
+    h = std::max(1, int(std::floor(h * s)));
+  }
+  const int depth = settings.depthSize;  // one size for every photograph
+  const std::size_t image = std::size_t(w) * h * 4, depthBytes = std::size_t(depth) * depth * 4;
+  const int slots = std::max(
+      1, std::min({settings.maxSlices, int(std::max<std::size_t>(1, settings.memoryBudgetBytes / (image + depthBytes))),
+                   std::max(1, int(scene.photos.size()))}));
+  std::cout << "memory     images: " << slots << " slots of " << w << "x" << h << " RGBA, GPU " << mib(image * slots)
+            << "\n";
+  std::cout << "memory     depth maps: " << slots << " of " << depth << "x" << depth << " float, GPU "
+            << mib(depthBytes * slots) << " (--depth-size, the same for every photograph)\n";
 }
 
 int printInfo(const std::string& scenePath, const Scene& scene, const CheckReport& report);
@@ -122,6 +190,7 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   const std::optional<double> ground = groundPlaneHeight(scenePath);
   if (ground) std::cout << "  a ground plane at height " << *ground << " (terrain.height), no DTM\n";
   std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
+  printTilesAndMemory(scene);
   std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()
             << " triangles\n";
   printPoints(scene.points);

@@ -69,7 +69,7 @@ void FrameBuilder::buildGeometry() {
     // Buildings keep each footprint's triangles in one tile; terrain and meshes go by triangle.
     static const std::vector<std::uint32_t> kNoTags;
     appendTiledLayer(layer, renderPositions, m->triangles, isBuildings ? m->triangleTags : kNoTags, base, grid,
-                     g.indices, g.tiles);
+                     g.indices, g.tiles, isBuildings ? scene_.tileOfBuilding : kNoTags);
     bounds_.extend(m->bounds());
   }
   tiles_ = g.tiles;

@@ -32,7 +32,8 @@ TileGridXY makeTileGrid(glm::dvec2 lo, glm::dvec2 hi, std::size_t triangles, int
 
 void appendTiledLayer(int layer, const std::vector<glm::dvec3>& positions, const std::vector<glm::uvec3>& triangles,
                       const std::vector<std::uint32_t>& tags, std::uint32_t base, const TileGridXY& grid,
-                      std::vector<std::uint32_t>& indices, std::vector<GeometryTile>& tiles) {
+                      std::vector<std::uint32_t>& indices, std::vector<GeometryTile>& tiles,
+                      const std::vector<std::uint32_t>& tileOfTag) {
   const std::size_t n = triangles.size();
   if (n == 0) return;
   const bool tagged = tags.size() == n;
@@ -49,7 +50,14 @@ void appendTiledLayer(int layer, const std::vector<glm::dvec3>& positions, const
     }
   }
   std::vector<int> cell(n);
+  // Tiles given by the source come after the grid's cells (they are never mixed in one layer
+  // unless some tag has none).
+  const int gridCells = grid.nx * grid.ny;
   for (std::size_t t = 0; t < n; ++t) {
+    if (tagged && tags[t] < tileOfTag.size()) {
+      cell[t] = gridCells + int(tileOfTag[tags[t]]);
+      continue;
+    }
     glm::dvec2 c;
     if (tagged) {
       const auto& box = tagBox.at(tags[t]);

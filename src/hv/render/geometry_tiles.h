@@ -7,8 +7,9 @@
 // Tiling: a square grid over the ground plane (x, y of the render frame) of the geometry's extent,
 // sized for about kTrianglesPerTile triangles per tile. Each layer's triangles are sorted into the
 // grid cells, layer by layer, so a layer stays one contiguous range of the index buffer. A building
-// is never split: all its triangles (one tag, hv::Mesh::triangleTags) belong to the cell of its
-// bounding box's centre, so it is drawn once or not at all. Terrain and mesh triangles go by their
+// is never split: all its triangles (one tag, hv::Mesh::triangleTags) belong to the tile it was
+// read in (buildings read by tile, Scene::tileOfBuilding), else to the cell of its bounding box's
+// centre, so it is drawn once or not at all. Terrain and mesh triangles go by their
 // centroid. A tile's box is the box of its triangles' vertices, so a triangle crossing a cell
 // border is inside its tile's box.
 #pragma once
@@ -41,9 +42,12 @@ TileGridXY makeTileGrid(glm::dvec2 lo, glm::dvec2 hi, std::size_t triangles, int
 // Orders the triangles of one layer by grid cell and appends them to `indices` (offset by `base`,
 // the layer's first vertex), one GeometryTile per non-empty cell. `positions` are the layer's
 // vertices in the render frame; `tags` (empty: none) keep each tag's triangles in one tile.
+// `tileOfTag` (empty: the grid): the tile of each tag, given by the source (Scene::tileOfBuilding,
+// buildings read by tile), used instead of the grid; a tag past its end goes by the grid.
 void appendTiledLayer(int layer, const std::vector<glm::dvec3>& positions, const std::vector<glm::uvec3>& triangles,
                       const std::vector<std::uint32_t>& tags, std::uint32_t base, const TileGridXY& grid,
-                      std::vector<std::uint32_t>& indices, std::vector<GeometryTile>& tiles);
+                      std::vector<std::uint32_t>& indices, std::vector<GeometryTile>& tiles,
+                      const std::vector<std::uint32_t>& tileOfTag = {});
 
 // Whether an axis-aligned box may be inside the clip volume of `clipFromRender` (-w <= x, y, z <= w):
 // false only when all 8 corners are outside one of the six planes (each plane is a half-space of

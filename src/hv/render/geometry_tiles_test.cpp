@@ -112,6 +112,22 @@ TEST(GeometryTiles, ABuildingIsNeverSplit) {
   EXPECT_EQ(grid.cellOf({44, 44}), 0);
   EXPECT_EQ(*tilesOf[0].begin() == *tilesOf[1].begin(), false);
   EXPECT_EQ(*tilesOf[1].begin(), *tilesOf[3].begin());
+
+  // Tiles given by the source (buildings read by tile): those, not the grid's cells.
+  const std::vector<std::uint32_t> tileOfTag = {1, 0, 1, 0};  // buildings 0 and 2 together, 1 and 3
+  indices.clear();
+  tiles.clear();
+  appendTiledLayer(kLayerBuildings, positions, triangles, tags, 0, grid, indices, tiles, tileOfTag);
+  ASSERT_EQ(tiles.size(), 2u);
+  // Tile 0 (buildings 1 and 3) first: its box spans x 60..68 and 48..56, y 10..48.
+  EXPECT_EQ(tiles[0].range.count, 12);
+  EXPECT_FLOAT_EQ(tiles[0].lo.x, 48.0f);
+  EXPECT_FLOAT_EQ(tiles[0].hi.x, 68.0f);
+  EXPECT_FLOAT_EQ(tiles[0].lo.y, 10.0f);
+  EXPECT_FLOAT_EQ(tiles[0].hi.y, 48.0f);
+  std::set<std::uint32_t> first;
+  for (int i = 0; i < tiles[0].range.count; ++i) first.insert(indices[size_t(i)] / 4);
+  EXPECT_EQ(first, (std::set<std::uint32_t>{1, 3}));
 }
 
 // The box test never drops a box that holds a point inside the clip volume, and drops boxes that

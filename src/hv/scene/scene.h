@@ -10,6 +10,7 @@
 #include "hv/util/dates.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,6 +66,19 @@ struct Scene {
     std::string reads;  // where the levels are read from: "2 GDAL overviews", "a pyramid built in memory (7 levels)"
   } terrainTilesInfo;
   Mesh buildings;
+  // Buildings read by tile (hv/io/native/footprints.h, readFootprintTiles): a regular grid over
+  // the footprints' extent, each building owned by one tile. `tileOfBuilding[tag]` is the tile of
+  // the building with that triangle tag; the frame builder makes each tile one geometry tile
+  // (hv/render/geometry_tiles.h). Empty: no tiles (a scene made in memory), the frame builder's
+  // own grid then.
+  std::vector<std::uint32_t> tileOfBuilding;
+  struct BuildingTilesInfo {
+    std::size_t loaded = 0, total = 0;  // tiles read (holding buildings or not) / in the grid
+    double tileSize = 0.0;              // in the source's units
+    bool spatialFilter = true;          // read through OGR's spatial filter
+    std::string note;                   // why not, when not
+    std::string selection;              // which tiles were read
+  } buildingTilesInfo;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
   // scene.json "points" (empty: none), organised into chunks (hv/scene/chunks.h) at load, in the
   // scene frame; `points.crs` keeps the CRS they were given in (the file's, or points.crs).

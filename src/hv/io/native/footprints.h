@@ -5,6 +5,8 @@
 #include "hv/scene/native/lod1.h"
 #include "hv/util/diagnostics.h"
 
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,5 +47,45 @@ struct GeoreferencedFootprints {
 // be read, and when the scene is geocentric (LOD1 extrusion needs a vertical z).
 GeoreferencedFootprints readFootprints(const std::string& path, const FootprintFields& fields,
                                        const SourceGeoref& georef, Diagnostics& diag);
+
+// Footprints read by tile (de Castro & Brédif 2022: data in tiles, fetched for the view). Each
+// layer's extent (its own CRS) is cut into a regular grid of square tiles; a feature belongs to
+// the one tile that holds its first vertex (the first point of its first polygon's outer ring),
+// so a building crossing tile borders is read, extruded and drawn once. Where the layer has a
+// fast spatial filter (OLCFastSpatialFilter: GeoPackage, FlatGeobuf, Shapefile with a .qix),
+// each wanted tile is read through OGRLayer::SetSpatialFilterRect; otherwise the layer is read
+// once and its features sorted into the tiles in memory (`note` says so).
+struct FootprintTileOptions {
+  // Tile side in the layer's units; 0: chosen from the layer's density, about `perTile` features
+  // per tile (at most 256 x 256 tiles per layer).
+  double tileSize = 0.0;
+  std::size_t perTile = 256;
+  // Which tiles to read, given a tile's box (x, y) in the scene frame; empty: all of them.
+  std::function<bool(glm::dvec2 lo, glm::dvec2 hi)> wanted;
+};
+
+struct FootprintTile {
+  glm::dvec2 lo{0.0}, hi{0.0};        // the tile's box in the scene frame (its corners transformed)
+  std::vector<Footprint> footprints;  // in the scene frame, as readFootprints gives them
+};
+
+struct FootprintTileSource {
+  std::string path;
+  std::string sourceCrs;       // as GeoreferencedFootprints::sourceCrs
+  std::size_t tilesTotal = 0;  // over every layer
+  std::size_t tilesRead = 0;   // the wanted ones
+  bool spatialFilter = true;   // every layer read through OGR's spatial filter
+  double tileSize = 0.0;       // the first layer's, in its units
+  std::string note;            // why a layer was read whole and indexed in memory; empty: none
+};
+
+// Reads the wanted tiles, calling `consume` once per tile that holds footprints (so the caller
+// can extrude a tile and drop its footprints before the next is read). Same checks, warnings and
+// georeferencing as readFootprints; a feature is read (and warned about) only with its tile. With
+// a spatial filter, features without geometry are never returned by it: their number is given in
+// one warning when every tile is read. Throws like readFootprints.
+FootprintTileSource readFootprintTiles(const std::string& path, const FootprintFields& fields,
+                                       const SourceGeoref& georef, const FootprintTileOptions& options,
+                                       const std::function<void(FootprintTile&)>& consume, Diagnostics& diag);
 
 }  // namespace hv

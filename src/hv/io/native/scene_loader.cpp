@@ -246,6 +246,119 @@ Heightfield buildingBaseHeights(const TerrainQuadtree& tree) {
   return tree.levelHeightfield(level);
 }
 
+struct PendingBuildings {
+  std::string path;
+  FootprintFields fields;
+  SourceGeoref georef;
+  std::size_t sourceCrsAt = 0;  // where in Scene::sourceCrs the buildings' CRS goes (the order of scene.json)
+};
+
+// Whether a photograph may see anything of `box` (world) closer than `reach`: conservative (a
+// plane test on the box's corners against the pinhole frustum's sides; a distorted lens only by
+// distance, a fish-eye may see behind its axis).
+bool cameraMaySee(const Camera& camera, const Aabb& box, double reach) {
+  const glm::dvec3 nearest = glm::clamp(camera.center, box.lo, box.hi);
+  if (glm::length(nearest - camera.center) > reach) return false;
+  if (camera.distortion && !camera.distortion->isIdentity()) return true;
+  glm::dvec3 corners[8];
+  for (int c = 0; c < 8; ++c)
+    corners[c] = camera.camFromWorld *
+                 (glm::dvec3(c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y, c & 4 ? box.hi.z : box.lo.z) -
+                  camera.center);
+  const glm::dmat3 k = camera.camFromPix();
+  const glm::dvec3 rays[4] = {k * glm::dvec3(0.0, 0.0, 1.0), k * glm::dvec3(camera.width, 0.0, 1.0),
+                              k * glm::dvec3(camera.width, camera.height, 1.0),
+                              k * glm::dvec3(0.0, camera.height, 1.0)};
+  const glm::dvec3 axis = k * glm::dvec3(0.5 * camera.width, 0.5 * camera.height, 1.0);
+  std::vector<glm::dvec3> planes = {glm::dvec3(0.0, 0.0, 1.0)};  // in front
+  for (int e = 0; e < 4; ++e) {
+    glm::dvec3 n = glm::cross(rays[e], rays[(e + 1) % 4]);
+    if (glm::dot(n, axis) < 0.0) n = -n;
+    planes.push_back(n);
+  }
+  for (const glm::dvec3& n : planes) {
+    bool allOutside = true;
+    for (const glm::dvec3& c : corners) allOutside = allOutside && glm::dot(n, c) < 0.0;
+    if (allOutside) return false;
+  }
+  return true;
+}
+
+// Scene::buildings read by tile (hv/io/native/footprints.h) and extruded tile by tile, with the
+// LOD1 rules of buildLod1 and the validity dates of the attributes. With photographs, only the
+// tiles some photograph may see closer than kBuildingReachMetresPerPixel x its focal length are
+// read (docs/design.md, "Building tiles"); without, all of them.
+void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfield& dtm, Diagnostics& diag) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FootprintTileOptions options;
+  options.perTile = kBuildingsPerTile;
+  // The heights the tiles' boxes span: the terrain's and the cameras', with a margin for towers.
+  double zlo = INFINITY, zhi = -INFINITY;
+  for (float z : dtm.z)
+    if (std::isfinite(z)) zlo = std::min(zlo, double(z)), zhi = std::max(zhi, double(z));
+  for (const Photo& p : scene.photos) zlo = std::min(zlo, p.camera.center.z), zhi = std::max(zhi, p.camera.center.z);
+  zlo -= 1000.0;
+  zhi += 1000.0;
+  if (!scene.photos.empty()) {
+    options.wanted = [&](glm::dvec2 lo, glm::dvec2 hi) {
+      if (!std::isfinite(lo.x) || !std::isfinite(lo.y) || !std::isfinite(hi.x) || !std::isfinite(hi.y)) return true;
+      Aabb box;
+      box.lo = {lo, zlo};
+      box.hi = {hi, zhi};
+      for (const Photo& p : scene.photos)
+        if (cameraMaySee(p.camera, box, kBuildingReachMetresPerPixel * std::max(p.camera.focal.x, p.camera.focal.y)))
+          return true;
+      return false;
+    };
+  }
+  Scene::BuildingTilesInfo& info = scene.buildingTilesInfo;
+  std::uint32_t delivered = 0;  // tiles holding buildings
+  const FootprintTileSource source = readFootprintTiles(
+      b.path, b.fields, b.georef, options,
+      [&](FootprintTile& tile) {
+        const std::uint32_t first = std::uint32_t(scene.buildingValidity.size());
+        Mesh mesh = buildLod1(tile.footprints, dtm.empty() ? nullptr : &dtm, diag);
+        for (std::uint32_t& tag : mesh.triangleTags) tag += first;
+        scene.buildings.append(mesh);
+        for (const Footprint& f : tile.footprints) {
+          DateInterval valid;  // open-ended unless the attributes say otherwise
+          auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
+            if (!text || text->empty()) return;
+            if (const auto d = parseDate(*text)) {
+              (from ? valid.first : valid.last) = from ? d->first : d->last;
+            } else {
+              diag.warn(b.path + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
+                        "' (ignored)");
+            }
+          };
+          bound(f.validFrom, b.fields.validFrom.value_or("valid_from"), true);
+          bound(f.validTo, b.fields.validTo.value_or("valid_to"), false);
+          scene.buildingValidity.push_back(valid);
+          scene.tileOfBuilding.push_back(delivered);
+        }
+        ++delivered;
+      },
+      diag);
+  if (!source.sourceCrs.empty())
+    scene.sourceCrs.insert(scene.sourceCrs.begin() + std::ptrdiff_t(std::min(b.sourceCrsAt, scene.sourceCrs.size())),
+                           Scene::SourceCrs{"buildings", source.sourceCrs, !scene.crs.empty()});
+  info.loaded = source.tilesRead;
+  info.total = source.tilesTotal;
+  info.tileSize = source.tileSize;
+  info.spatialFilter = source.spatialFilter;
+  info.note = source.note;
+  std::ostringstream how;
+  if (scene.photos.empty())
+    how << "all (no photographs)";
+  else
+    how << "those some photograph may see closer than " << kBuildingReachMetresPerPixel << " m per pixel";
+  info.selection = how.str();
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log::debug("buildings: " + b.path + ": " + std::to_string(info.loaded) + " of " + std::to_string(info.total) +
+             " tiles read (" + std::to_string(delivered) + " holding buildings), " +
+             std::to_string(scene.buildingValidity.size()) + " buildings, " + std::to_string(s) + " s");
+}
+
 // Scene::terrain from the quadtree: the tiles the photographs' cameras need (docs/design.md,
 // "Terrain tiles"), within the triangle budget, with their skirts.
 void meshTerrainTiles(Scene& scene) {
@@ -441,6 +554,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (terrain left out)");
     }
   }
+  // Buildings are read once the cameras are known (below): only the tiles the photographs see.
+  std::optional<PendingBuildings> buildings;
   if (doc.contains("buildings")) {
     try {
       const std::string p = sourcePath(doc, "buildings", dir, path);
@@ -464,31 +579,17 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
         log::debug("buildings: " + p + ": " + std::to_string(city.ids.size()) + " CityJSON buildings, " +
                    std::to_string(scene.buildings.triangles.size()) + " triangles");
       } else {
-        FootprintFields fields;
-        if (auto h = optionalString(b, "height", path + ": buildings")) fields.height = *h;
-        fields.base = optionalString(b, "base", path + ": buildings");
-        fields.top = optionalString(b, "top", path + ": buildings");
-        fields.validFrom = optionalString(b, "valid_from", path + ": buildings");
-        fields.validTo = optionalString(b, "valid_to", path + ": buildings");
-        GeoreferencedFootprints read = readFootprints(p, fields, sourceGeoref(doc, "buildings", scene.crs, path), diag);
-        const std::vector<Footprint>& footprints = read.footprints;
-        recordSource(scene, "buildings", read.sourceCrs);
-        scene.buildings = buildLod1(footprints, dtm.empty() ? nullptr : &dtm, diag);
-        for (const Footprint& f : footprints) {
-          DateInterval valid;  // open-ended unless the attributes say otherwise
-          auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
-            if (!text || text->empty()) return;
-            if (const auto d = parseDate(*text)) {
-              (from ? valid.first : valid.last) = from ? d->first : d->last;
-            } else {
-              diag.warn(p + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
-                        "' (ignored)");
-            }
-          };
-          bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
-          bound(f.validTo, fields.validTo.value_or("valid_to"), false);
-          scene.buildingValidity.push_back(valid);
-        }
+        PendingBuildings pending;
+        pending.path = p;
+        const json& entry = doc["buildings"];
+        if (auto h = optionalString(entry, "height", path + ": buildings")) pending.fields.height = *h;
+        pending.fields.base = optionalString(entry, "base", path + ": buildings");
+        pending.fields.top = optionalString(entry, "top", path + ": buildings");
+        pending.fields.validFrom = optionalString(entry, "valid_from", path + ": buildings");
+        pending.fields.validTo = optionalString(entry, "valid_to", path + ": buildings");
+        pending.georef = sourceGeoref(doc, "buildings", scene.crs, path);
+        pending.sourceCrsAt = scene.sourceCrs.size();
+        buildings = std::move(pending);
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (buildings left out)");
@@ -600,6 +701,16 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
     }
   }
 
+  if (buildings) {
+    try {
+      loadBuildingTiles(scene, *buildings, dtm, diag);
+    } catch (const InputError& e) {
+      scene.buildings = Mesh{};
+      scene.buildingValidity.clear();
+      scene.tileOfBuilding.clear();
+      diag.error(std::string(e.what()) + " (buildings left out)");
+    }
+  }
   if (groundHeight) makeGroundPlane(scene, *groundHeight, path, diag);
 
   warnUnrelatedFrames(scene, crsDeclared, path, diag);

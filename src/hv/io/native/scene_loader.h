@@ -15,6 +15,12 @@ namespace hv {
 // within kTerrainTriangleBudget (estimated: two a cell and two a skirt segment).
 constexpr int kTerrainTileCells = 64;
 constexpr double kTerrainTolerancePx = 2.0;
+// Buildings are read by tile (hv/io/native/footprints.h), about kBuildingsPerTile footprints per
+// tile; with photographs, only the tiles some photograph may see closer than
+// kBuildingReachMetresPerPixel x its focal length in pixels (farther, a pixel of it spans more
+// than that on a facade facing it: too coarse to texture a building).
+constexpr std::size_t kBuildingsPerTile = 256;
+constexpr double kBuildingReachMetresPerPixel = 4.0;
 constexpr std::size_t kTerrainTriangleBudget = 2'000'000;
 
 // Loads terrain, buildings and cameras. A broken source (missing file, unreadable raster, bad

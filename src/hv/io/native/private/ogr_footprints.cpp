@@ -2,11 +2,14 @@
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <tuple>
+#include <unordered_set>
 
 #include "hv/io/native/footprints.h"
 #include "hv/io/native/private/gdal_init.h"
@@ -115,10 +118,11 @@ bool degreesFit(OGRLayer* layer, const std::string& crs) {
 }
 
 // A layer's footprints (in its CRS) into the scene frame; see footprints.h. Footprints PROJ cannot
-// transform are dropped with a warning.
-void georeferenceLayer(std::vector<Footprint>& footprints, size_t first, const GeoTransform& t,
-                       const std::string& path, Diagnostics& diag) {
-  if (t.isIdentity()) return;
+// transform are dropped with a warning. Returns whether absolute levels were only converted to
+// metres (warnLevelsAsTheyAre says so, once per layer).
+bool georeferenceLayer(std::vector<Footprint>& footprints, size_t first, const GeoTransform& t, const std::string& path,
+                       Diagnostics& diag) {
+  if (t.isIdentity()) return false;
   const double heightUnit = t.source().heightToMetre();
   const bool throughProj = t.transformsHeights() && !t.sameCrs();
   bool levelsAsTheyAre = false;
@@ -147,12 +151,202 @@ void georeferenceLayer(std::vector<Footprint>& footprints, size_t first, const G
     ++kept;
   }
   footprints.resize(kept);
-  if (levelsAsTheyAre)
-    diag.warn(inputMessage(path, "base/top",
-                           "absolute elevations taken as they are, only converted to metres: " + t.source().summary() +
-                               " and the scene's " + t.scene().summary() +
-                               " do not both have a vertical axis; declare compound CRSs (e.g. EPSG:2154+5720) to "
-                               "transform heights between vertical datums"));
+  return levelsAsTheyAre;
+}
+
+void warnLevelsAsTheyAre(const GeoTransform& t, const std::string& path, Diagnostics& diag) {
+  diag.warn(inputMessage(path, "base/top",
+                         "absolute elevations taken as they are, only converted to metres: " + t.source().summary() +
+                             " and the scene's " + t.scene().summary() +
+                             " do not both have a vertical axis; declare compound CRSs (e.g. EPSG:2154+5720) to "
+                             "transform heights between vertical datums"));
+}
+
+// One layer's CRS and transform into the scene frame, and the prefix of its feature ids.
+struct LayerFrame {
+  std::optional<GeoTransform> transform;
+  std::string prefix;
+};
+
+LayerFrame layerFrame(OGRLayer* layer, int layerCount, const SourceGeoref& georef, const std::string& path,
+                      std::string& sourceCrs, Diagnostics& diag) {
+  LayerFrame f;
+  // The CRS first, so that a bad one is reported before any feature.
+  std::string declared = georef.crs.empty() ? gdal::crsDefinition(layer->GetSpatialRef()) : georef.crs;
+  if (georef.crs.empty() && !degreesFit(layer, declared)) {
+    if (!georef.sceneCrs.empty())
+      diag.warn(inputMessage(path, "CRS",
+                             "the source says (or, GeoJSON without `crs`, RFC 7946 implies) a geographic CRS, but "
+                             "its coordinates are not longitudes and latitudes: taken in the scene CRS; give "
+                             "buildings.crs if that is wrong"));
+    declared.clear();  // no CRS, then
+  }
+  const std::string crs = sourceCrsOf(georef, declared);
+  if (sourceCrs.empty()) sourceCrs = crs.empty() ? declared : crs;
+  if (!crs.empty()) {
+    f.transform.emplace(sourceTransform(georef, crs, path, diag));
+    if (f.transform->scene().geocentric || f.transform->source().geocentric)
+      throw InputError(inputMessage(path, "CRS",
+                                    "LOD1 footprints and the scene need a CRS with a vertical z (projected or "
+                                    "compound), not a geocentric one"));
+  }
+  // With several layers, feature ids are only unique within their layer.
+  f.prefix = layerCount > 1 ? std::string(layer->GetName()) + ":" : std::string();
+  return f;
+}
+
+// One feature's footprints (in the layer's CRS) appended to `out`; a feature that cannot give
+// any is warned about, naming its id.
+void readFeature(const OGRFeature& feature, const std::string& fid, const FootprintFields& fields,
+                 const std::string& path, std::vector<Footprint>& out, Diagnostics& diag) {
+  auto warn = [&](const std::string& id, const std::string& field, const std::string& message) {
+    diag.warn(inputMessage(path, "feature " + id + (field.empty() ? "" : ": " + field), message + "; skipped"));
+  };
+
+  const NumericField height = readNumber(feature, fields.height);
+  const NumericField base = readNumber(feature, fields.base);
+  const NumericField top = readNumber(feature, fields.top);
+  if (base.state == NumericField::State::NotNumeric) {
+    warn(fid, *fields.base, "expected a number, got '" + base.raw + "'");
+    return;
+  }
+  if (top.state == NumericField::State::NotNumeric) {
+    warn(fid, *fields.top, "expected a number, got '" + top.raw + "'");
+    return;
+  }
+  const bool heightOk = height.state == NumericField::State::Ok && height.value > 0.0;
+  // Without a usable height, only an absolute roof elevation can place the roof.
+  if (!heightOk && top.state != NumericField::State::Ok) {
+    const std::string why = height.state == NumericField::State::Missing ? "missing or null"
+                            : height.state == NumericField::State::NotNumeric
+                                ? "expected a number, got '" + height.raw + "'"
+                                : "expected a height > 0, got " + height.raw;
+    warn(fid, fields.height, why + " (and no roof elevation)");
+    return;
+  }
+
+  const OGRGeometry* geometry = feature.GetGeometryRef();
+  if (!geometry || geometry->IsEmpty()) {
+    warn(fid, "geometry", "missing or empty");
+    return;
+  }
+  std::vector<std::pair<std::string, const OGRPolygon*>> parts;
+  switch (wkbFlatten(geometry->getGeometryType())) {
+    case wkbPolygon:
+      parts.emplace_back(fid, geometry->toPolygon());
+      break;
+    case wkbMultiPolygon: {
+      const OGRMultiPolygon* multi = geometry->toMultiPolygon();
+      for (int p = 0; p < multi->getNumGeometries(); ++p)
+        parts.emplace_back(fid + "." + std::to_string(p), multi->getGeometryRef(p));
+      break;
+    }
+    default:
+      warn(fid, "geometry", std::string("expected a Polygon or MultiPolygon, got ") + geometry->getGeometryName());
+      return;
+  }
+
+  for (const auto& [id, polygon] : parts) {
+    Footprint fp;
+    fp.id = id;
+    bool ok = polygon && !polygon->IsEmpty();
+    if (ok) {
+      fp.rings.push_back(readRing(polygon->getExteriorRing()));
+      for (int h = 0; h < polygon->getNumInteriorRings(); ++h)
+        fp.rings.push_back(readRing(polygon->getInteriorRing(h)));
+      for (const auto& ring : fp.rings) ok = ok && distinctPoints(ring) >= 3;
+    }
+    if (!ok) {
+      warn(id, "geometry", "a ring has fewer than 3 distinct points");
+      continue;
+    }
+    if (heightOk) fp.height = height.value;
+    if (base.state == NumericField::State::Ok) fp.base = base.value;
+    if (top.state == NumericField::State::Ok) fp.top = top.value;
+    fp.validFrom = readString(feature, fields.validFrom);
+    fp.validTo = readString(feature, fields.validTo);
+    out.push_back(std::move(fp));
+  }
+}
+
+// The point that places a feature in its tile: the first point of the outer ring of its first
+// non-empty polygon (on the geometry, so a spatial filter holding it returns the feature). None
+// for other geometry types and empty ones.
+std::optional<glm::dvec2> firstVertex(const OGRGeometry* geometry) {
+  if (!geometry || geometry->IsEmpty()) return std::nullopt;
+  auto ofPolygon = [](const OGRPolygon* polygon) -> std::optional<glm::dvec2> {
+    const OGRLinearRing* ring = polygon ? polygon->getExteriorRing() : nullptr;
+    if (!ring || ring->getNumPoints() == 0) return std::nullopt;
+    return glm::dvec2(ring->getX(0), ring->getY(0));
+  };
+  switch (wkbFlatten(geometry->getGeometryType())) {
+    case wkbPolygon:
+      return ofPolygon(geometry->toPolygon());
+    case wkbMultiPolygon: {
+      const OGRMultiPolygon* multi = geometry->toMultiPolygon();
+      for (int p = 0; p < multi->getNumGeometries(); ++p)
+        if (auto v = ofPolygon(multi->getGeometryRef(p))) return v;
+      return std::nullopt;
+    }
+    default:
+      return std::nullopt;
+  }
+}
+
+// A layer's regular grid of tiles (layer CRS).
+struct LayerGrid {
+  glm::dvec2 origin{0.0};
+  double size = 1.0;
+  int nx = 1, ny = 1;
+  int cellOf(glm::dvec2 p) const {
+    const double fx = (p.x - origin.x) / size, fy = (p.y - origin.y) / size;
+    const int ix = std::isfinite(fx) ? int(std::clamp(std::floor(fx), 0.0, double(nx - 1))) : 0;
+    const int iy = std::isfinite(fy) ? int(std::clamp(std::floor(fy), 0.0, double(ny - 1))) : 0;
+    return iy * nx + ix;
+  }
+  glm::dvec2 lo(int cell) const { return origin + size * glm::dvec2(cell % nx, cell / nx); }
+  glm::dvec2 hi(int cell) const { return lo(cell) + glm::dvec2(size); }
+};
+
+LayerGrid layerGrid(OGRLayer* layer, const FootprintTileOptions& options) {
+  LayerGrid g;
+  OGREnvelope e;
+  if (layer->GetExtent(&e, TRUE) != OGRERR_NONE || !std::isfinite(e.MinX) || !std::isfinite(e.MaxX) ||
+      !std::isfinite(e.MinY) || !std::isfinite(e.MaxY) || e.MaxX < e.MinX || e.MaxY < e.MinY)
+    return g;  // one tile
+  const double w = e.MaxX - e.MinX, h = e.MaxY - e.MinY;
+  double size = options.tileSize;
+  if (!(size > 0.0)) {
+    const GIntBig count = layer->GetFeatureCount(TRUE);
+    const double perTile = double(std::max<std::size_t>(options.perTile, 1));
+    size = count > 0 ? std::sqrt(std::max(w * h, 1e-18) * perTile / double(count)) : std::max(w, h);
+  }
+  size = std::max({size, w / 256.0, h / 256.0, 1e-9 * std::max({std::abs(e.MinX), std::abs(e.MinY), 1.0})});
+  g.origin = {e.MinX, e.MinY};
+  g.size = size;
+  g.nx = std::clamp(int(std::ceil(w / size)), 1, 256);
+  g.ny = std::clamp(int(std::ceil(h / size)), 1, 256);
+  return g;
+}
+
+// A tile's box in the scene frame: its corners and edge midpoints transformed (a point PROJ
+// cannot transform leaves the box as wide as the others make it; none: infinite).
+std::pair<glm::dvec2, glm::dvec2> sceneBox(const LayerGrid& g, int cell, const std::optional<GeoTransform>& t) {
+  const glm::dvec2 lo = g.lo(cell), hi = g.hi(cell);
+  if (!t || t->isIdentity()) return {lo, hi};
+  glm::dvec2 a(INFINITY), b(-INFINITY);
+  for (int i = 0; i <= 2; ++i)
+    for (int j = 0; j <= 2; ++j) {
+      const glm::dvec2 p = lo + (hi - lo) * glm::dvec2(0.5 * i, 0.5 * j);
+      try {
+        const glm::dvec2 q(t->point({p.x, p.y, 0.0}));
+        a = glm::min(a, q);
+        b = glm::max(b, q);
+      } catch (const InputError&) {
+      }
+    }
+  if (a.x > b.x) return {glm::dvec2(-INFINITY), glm::dvec2(INFINITY)};
+  return {a, b};
 }
 
 }  // namespace
@@ -177,105 +371,111 @@ GeoreferencedFootprints readFootprints(const std::string& path, const FootprintF
   for (int l = 0; l < layerCount; ++l) {
     OGRLayer* layer = ds->GetLayer(l);
     const size_t first = out.size();
-    // The CRS first, so that a bad one is reported before any feature.
-    std::string declared = georef.crs.empty() ? gdal::crsDefinition(layer->GetSpatialRef()) : georef.crs;
-    if (georef.crs.empty() && !degreesFit(layer, declared)) {
-      if (!georef.sceneCrs.empty())
-        diag.warn(inputMessage(path, "CRS",
-                               "the source says (or, GeoJSON without `crs`, RFC 7946 implies) a geographic CRS, but "
-                               "its coordinates are not longitudes and latitudes: taken in the scene CRS; give "
-                               "buildings.crs if that is wrong"));
-      declared.clear();  // no CRS, then
-    }
-    const std::string crs = sourceCrsOf(georef, declared);
-    if (result.sourceCrs.empty()) result.sourceCrs = crs.empty() ? declared : crs;
-    std::optional<GeoTransform> transform;
-    if (!crs.empty()) {
-      transform.emplace(sourceTransform(georef, crs, path, diag));
-      if (transform->scene().geocentric || transform->source().geocentric)
-        throw InputError(inputMessage(path, "CRS",
-                                      "LOD1 footprints and the scene need a CRS with a vertical z (projected or "
-                                      "compound), not a geocentric one"));
-    }
-    // With several layers, feature ids are only unique within their layer.
-    const std::string prefix = layerCount > 1 ? std::string(layer->GetName()) + ":" : std::string();
+    const LayerFrame frame = layerFrame(layer, layerCount, georef, path, result.sourceCrs, diag);
     layer->ResetReading();
-    for (auto& feature : *layer) {
-      const std::string fid = prefix + std::to_string(feature->GetFID());
-      auto warn = [&](const std::string& id, const std::string& field, const std::string& message) {
-        diag.warn(
-            inputMessage(path, "feature " + id + (field.empty() ? "" : ": " + field), message + "; skipped"));
-      };
-
-      const NumericField height = readNumber(*feature, fields.height);
-      const NumericField base = readNumber(*feature, fields.base);
-      const NumericField top = readNumber(*feature, fields.top);
-      if (base.state == NumericField::State::NotNumeric) {
-        warn(fid, *fields.base, "expected a number, got '" + base.raw + "'");
-        continue;
-      }
-      if (top.state == NumericField::State::NotNumeric) {
-        warn(fid, *fields.top, "expected a number, got '" + top.raw + "'");
-        continue;
-      }
-      const bool heightOk = height.state == NumericField::State::Ok && height.value > 0.0;
-      // Without a usable height, only an absolute roof elevation can place the roof.
-      if (!heightOk && top.state != NumericField::State::Ok) {
-        const std::string why = height.state == NumericField::State::Missing ? "missing or null"
-                                : height.state == NumericField::State::NotNumeric
-                                    ? "expected a number, got '" + height.raw + "'"
-                                    : "expected a height > 0, got " + height.raw;
-        warn(fid, fields.height, why + " (and no roof elevation)");
-        continue;
-      }
-
-      const OGRGeometry* geometry = feature->GetGeometryRef();
-      if (!geometry || geometry->IsEmpty()) {
-        warn(fid, "geometry", "missing or empty");
-        continue;
-      }
-      std::vector<std::pair<std::string, const OGRPolygon*>> parts;
-      switch (wkbFlatten(geometry->getGeometryType())) {
-        case wkbPolygon:
-          parts.emplace_back(fid, geometry->toPolygon());
-          break;
-        case wkbMultiPolygon: {
-          const OGRMultiPolygon* multi = geometry->toMultiPolygon();
-          for (int p = 0; p < multi->getNumGeometries(); ++p)
-            parts.emplace_back(fid + "." + std::to_string(p), multi->getGeometryRef(p));
-          break;
-        }
-        default:
-          warn(fid, "geometry",
-               std::string("expected a Polygon or MultiPolygon, got ") + geometry->getGeometryName());
-          continue;
-      }
-
-      for (const auto& [id, polygon] : parts) {
-        Footprint fp;
-        fp.id = id;
-        bool ok = polygon && !polygon->IsEmpty();
-        if (ok) {
-          fp.rings.push_back(readRing(polygon->getExteriorRing()));
-          for (int h = 0; h < polygon->getNumInteriorRings(); ++h)
-            fp.rings.push_back(readRing(polygon->getInteriorRing(h)));
-          for (const auto& ring : fp.rings) ok = ok && distinctPoints(ring) >= 3;
-        }
-        if (!ok) {
-          warn(id, "geometry", "a ring has fewer than 3 distinct points");
-          continue;
-        }
-        if (heightOk) fp.height = height.value;
-        if (base.state == NumericField::State::Ok) fp.base = base.value;
-        if (top.state == NumericField::State::Ok) fp.top = top.value;
-        fp.validFrom = readString(*feature, fields.validFrom);
-        fp.validTo = readString(*feature, fields.validTo);
-        out.push_back(std::move(fp));
-      }
-    }
-    if (transform) georeferenceLayer(out, first, *transform, path, diag);
+    for (auto& feature : *layer)
+      readFeature(*feature, frame.prefix + std::to_string(feature->GetFID()), fields, path, out, diag);
+    if (frame.transform && georeferenceLayer(out, first, *frame.transform, path, diag))
+      warnLevelsAsTheyAre(*frame.transform, path, diag);
   }
   return result;
+}
+
+FootprintTileSource readFootprintTiles(const std::string& path, const FootprintFields& fields,
+                                       const SourceGeoref& georef, const FootprintTileOptions& options,
+                                       const std::function<void(FootprintTile&)>& consume, Diagnostics& diag) {
+  gdal::ensureRegistered();
+  const gdal::QuietErrors quiet;
+  gdal::requireOpenable(path, "footprints", true);
+  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  if (!ds)
+    throw InputError(inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
+
+  FootprintTileSource source;
+  source.path = path;
+  const int layerCount = ds->GetLayerCount();
+  for (int l = 0; l < layerCount; ++l) {
+    OGRLayer* layer = ds->GetLayer(l);
+    const LayerFrame frame = layerFrame(layer, layerCount, georef, path, source.sourceCrs, diag);
+    const LayerGrid grid = layerGrid(layer, options);
+    if (l == 0) source.tileSize = grid.size;
+    const int cells = grid.nx * grid.ny;
+    source.tilesTotal += std::size_t(cells);
+    std::vector<char> wanted(static_cast<std::size_t>(cells), 1);
+    FootprintTile tile;
+    for (int c = 0; c < cells; ++c) {
+      if (!options.wanted) continue;
+      std::tie(tile.lo, tile.hi) = sceneBox(grid, c, frame.transform);
+      wanted[std::size_t(c)] = options.wanted(tile.lo, tile.hi) ? 1 : 0;
+    }
+    source.tilesRead += std::size_t(std::count(wanted.begin(), wanted.end(), char(1)));
+    bool levelsAsTheyAre = false;
+    auto deliver = [&](int cell, std::vector<Footprint>& footprints) {
+      if (frame.transform)
+        levelsAsTheyAre = georeferenceLayer(footprints, 0, *frame.transform, path, diag) || levelsAsTheyAre;
+      if (footprints.empty()) return;
+      std::tie(tile.lo, tile.hi) = sceneBox(grid, cell, frame.transform);
+      tile.footprints = std::move(footprints);
+      consume(tile);
+      tile.footprints.clear();
+    };
+
+    const bool fast = layer->TestCapability(OLCFastSpatialFilter) != 0;
+    if (fast) {
+      // Each wanted tile through the layer's spatial index. The rectangle is padded so that a
+      // first vertex on a tile border is always returned to its owner, and the border tiles
+      // reach past the layer's extent (which a GeoPackage may give stale).
+      std::unordered_set<GIntBig> seenWithoutVertex;
+      std::size_t owned = 0;
+      const double pad = 1e-6 * grid.size;
+      for (int c = 0; c < cells; ++c) {
+        if (!wanted[std::size_t(c)]) continue;
+        const int ix = c % grid.nx, iy = c / grid.nx;
+        const double far = 1e6 * grid.size * std::max(grid.nx, grid.ny);
+        const glm::dvec2 lo = grid.lo(c), hi = grid.hi(c);
+        layer->SetSpatialFilterRect(ix == 0 ? lo.x - far : lo.x - pad, iy == 0 ? lo.y - far : lo.y - pad,
+                                    ix == grid.nx - 1 ? hi.x + far : hi.x + pad,
+                                    iy == grid.ny - 1 ? hi.y + far : hi.y + pad);
+        layer->ResetReading();
+        std::vector<Footprint> footprints;
+        for (auto& feature : *layer) {
+          const std::optional<glm::dvec2> v = firstVertex(feature->GetGeometryRef());
+          if (v ? grid.cellOf(*v) != c : !seenWithoutVertex.insert(feature->GetFID()).second) continue;
+          ++owned;
+          readFeature(*feature, frame.prefix + std::to_string(feature->GetFID()), fields, path, footprints, diag);
+        }
+        deliver(c, footprints);
+      }
+      layer->SetSpatialFilter(nullptr);
+      if (std::all_of(wanted.begin(), wanted.end(), [](char w) { return w != 0; })) {
+        const GIntBig count = layer->GetFeatureCount(TRUE);
+        if (count > GIntBig(owned))
+          diag.warn(inputMessage(path, frame.prefix + "features",
+                                 std::to_string(count - GIntBig(owned)) +
+                                     " feature(s) without geometry, which a spatial filter never returns; skipped"));
+      }
+    } else {
+      // No spatial index: the layer is read once, each feature sorted into its tile.
+      source.spatialFilter = false;
+      if (source.note.empty())
+        source.note = std::string(layer->GetName()) + " (" + ds->GetDriverName() +
+                      ") has no fast spatial filter (no spatial index: a Shapefile without .qix, GeoJSON, ...): "
+                      "read once and indexed in memory";
+      std::vector<std::vector<Footprint>> byCell(static_cast<std::size_t>(cells));
+      std::vector<Footprint> unplaced;  // features without a polygon: only their warnings
+      layer->ResetReading();
+      for (auto& feature : *layer) {
+        const std::optional<glm::dvec2> v = firstVertex(feature->GetGeometryRef());
+        const int c = v ? grid.cellOf(*v) : -1;
+        if (c >= 0 && !wanted[std::size_t(c)]) continue;
+        readFeature(*feature, frame.prefix + std::to_string(feature->GetFID()), fields, path,
+                    c >= 0 ? byCell[std::size_t(c)] : unplaced, diag);
+      }
+      for (int c = 0; c < cells; ++c) deliver(c, byCell[std::size_t(c)]);
+    }
+    if (levelsAsTheyAre) warnLevelsAsTheyAre(*frame.transform, path, diag);
+  }
+  return source;
 }
 
 }  // namespace hv
