@@ -51,6 +51,15 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
   // Region: the images that passed so far, with their texels (the first K blend, the K+1-th ends it).
   std::vector<std::pair<size_t, glm::dvec4>> passed;
   std::vector<double> feather(images.size(), 1.0), penalty(images.size(), 0.0);
+  // Image i's texel into the blend with weight w (times its feather).
+  const auto add = [&](size_t i, const glm::dvec4& texel, double weight) {
+    const double w = weight * feather[i];
+    if (w <= 0.0) return;
+    sum += w * glm::dvec3(texel);  // premultiplied: rgb already times alpha
+    out.alpha += w * texel.a;
+    out.contribution[i] = w * texel.a;
+    ++out.count;
+  };
   for (size_t i = 0; i < images.size(); ++i) {
     const ImageParams& im = images[i];
     const auto hit = projectIntoImage(im, P);
@@ -89,12 +98,7 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
       if (int(passed.size()) > std::max(k, 1)) break;
       continue;
     }
-    const double w = im.weight * feather[i];
-    if (w <= 0.0) continue;
-    sum += w * glm::dvec3(texel);  // premultiplied: rgb already times alpha
-    out.alpha += w * texel.a;
-    out.contribution[i] = w * texel.a;
-    ++out.count;
+    add(i, texel, im.weight);
   }
   if (geometry && method != BlendMethod::Nearest) {
     std::stable_sort(passed.begin(), passed.end(),
@@ -102,30 +106,16 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
     const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
     const double fNext =
         passed.size() > blended ? blendFalloff(penalty[passed[blended].first], opt.penaltyEpsilon) : 0.0;
-    for (size_t j = 0; j < blended; ++j) {
-      const auto& [i, texel] = passed[j];
-      const double w = std::max(0.0, blendFalloff(penalty[i], opt.penaltyEpsilon) - fNext) * feather[i];
-      if (w <= 0.0) continue;
-      sum += w * glm::dvec3(texel);
-      out.alpha += w * texel.a;
-      out.contribution[i] = w * texel.a;
-      ++out.count;
-    }
+    for (size_t j = 0; j < blended; ++j)
+      add(passed[j].first, passed[j].second,
+          std::max(0.0, blendFalloff(penalty[passed[j].first], opt.penaltyEpsilon) - fNext));
     if (out.alpha > 0.0) out.color = sum / out.alpha;
     return out;
   }
   if (selection == Selection::Region) {
     const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
     const double fNext = passed.size() > blended ? images[passed[blended].first].weight : 0.0;
-    for (size_t j = 0; j < blended; ++j) {
-      const auto& [i, texel] = passed[j];
-      const double w = (images[i].weight - fNext) * feather[i];
-      if (w <= 0.0) continue;
-      sum += w * glm::dvec3(texel);
-      out.alpha += w * texel.a;
-      out.contribution[i] = w * texel.a;
-      ++out.count;
-    }
+    for (size_t j = 0; j < blended; ++j) add(passed[j].first, passed[j].second, images[passed[j].first].weight - fNext);
   }
   if (out.alpha > 0.0) out.color = sum / out.alpha;
   return out;

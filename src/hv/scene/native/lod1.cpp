@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <utility>
@@ -96,6 +97,42 @@ GeomPtr makePolygon(const GeosContext& ctx, const std::vector<std::vector<glm::d
 
 }  // namespace
 
+// GEOS's constrained Delaunay triangulation of `polygon` (GEOS >= 3.10, after JTS's
+// ConstrainedDelaunayTriangulator), which only uses the polygon's own vertices: each triangle's
+// corners as indices of `index` (the rings' vertices by position), counter-clockwise in the plane.
+// `fail(what)` makes the exception for a failure.
+namespace {
+
+std::vector<glm::uvec3> constrainedDelaunay(const GeosContext& ctx, const GEOSGeometry* polygon,
+                                            const std::map<std::pair<double, double>, std::uint32_t>& index,
+                                            const std::function<InputError(const std::string&)>& fail) {
+  const GeomPtr triangles(GEOSConstrainedDelaunayTriangulation_r(ctx.get(), polygon), GeomDeleter{ctx.get()});
+  if (!triangles) throw fail("triangulation failed: " + ctx.lastError());
+  std::vector<glm::uvec3> out;
+  const int count = GEOSGetNumGeometries_r(ctx.get(), triangles.get());
+  for (int t = 0; t < count; ++t) {
+    const GEOSGeometry* tri = GEOSGetGeometryN_r(ctx.get(), triangles.get(), t);
+    const GEOSGeometry* shell = GEOSGetExteriorRing_r(ctx.get(), tri);
+    const GEOSCoordSequence* seq = shell ? GEOSGeom_getCoordSeq_r(ctx.get(), shell) : nullptr;
+    unsigned size = 0;
+    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &size) || size < 3)
+      throw fail("triangulation returned a malformed triangle");
+    glm::uvec3 corner;
+    glm::dvec2 xy[3];
+    for (unsigned c = 0; c < 3; ++c) {
+      GEOSCoordSeq_getXY_r(ctx.get(), seq, c, &xy[c].x, &xy[c].y);
+      const auto it = index.find({xy[c].x, xy[c].y});
+      if (it == index.end()) throw fail("triangulation introduced a vertex not on the polygon");
+      corner[int(c)] = it->second;
+    }
+    if (twiceSignedArea({xy[0], xy[1], xy[2]}) < 0.0) std::swap(corner[1], corner[2]);
+    out.push_back(corner);
+  }
+  return out;
+}
+
+}  // namespace
+
 Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ) {
   if (!std::isfinite(baseZ) || !std::isfinite(topZ) || !(topZ > baseZ))
     throw InputError(footprintMessage(footprint, "roof elevation " + std::to_string(topZ) +
@@ -151,35 +188,13 @@ Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ) {
       mesh.positions.emplace_back(p.x, p.y, topZ);
     }
 
-  // Roof and floor. GEOS's constrained Delaunay triangulation (GEOS >= 3.10, after JTS's
-  // ConstrainedDelaunayTriangulator) only uses the polygon's own vertices, so every triangle
-  // corner maps back to a ring vertex and the roof's border edges are exactly the ring edges.
-  const GeomPtr triangles(GEOSConstrainedDelaunayTriangulation_r(ctx.get(), polygon.get()),
-                          GeomDeleter{ctx.get()});
-  if (!triangles)
-    throw InputError(footprintMessage(footprint, "roof triangulation failed: " + ctx.lastError()));
-  const int count = GEOSGetNumGeometries_r(ctx.get(), triangles.get());
-  for (int t = 0; t < count; ++t) {
-    const GEOSGeometry* tri = GEOSGetGeometryN_r(ctx.get(), triangles.get(), t);
-    const GEOSGeometry* shell = GEOSGetExteriorRing_r(ctx.get(), tri);
-    const GEOSCoordSequence* seq = shell ? GEOSGeom_getCoordSeq_r(ctx.get(), shell) : nullptr;
-    unsigned size = 0;
-    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &size) || size < 3)
-      throw InputError(footprintMessage(footprint, "roof triangulation returned a malformed triangle"));
-    std::uint32_t corner[3];
-    glm::dvec2 xy[3];
-    for (unsigned c = 0; c < 3; ++c) {
-      GEOSCoordSeq_getXY_r(ctx.get(), seq, c, &xy[c].x, &xy[c].y);
-      const auto it = ringVertex.find({xy[c].x, xy[c].y});
-      if (it == ringVertex.end())
-        throw InputError(
-            footprintMessage(footprint, "roof triangulation introduced a vertex not on the footprint"));
-      corner[c] = it->second;
-    }
+  // Roof and floor: every triangle corner is a ring vertex, so the roof's border edges are exactly
+  // the ring edges.
+  const auto roofFail = [&](const std::string& why) { return InputError(footprintMessage(footprint, "roof " + why)); };
+  for (const glm::uvec3& c : constrainedDelaunay(ctx, polygon.get(), ringVertex, roofFail)) {
     // Roof counter-clockwise from above (up-facing), floor the other way (down-facing).
-    if (twiceSignedArea({xy[0], xy[1], xy[2]}) < 0.0) std::swap(corner[1], corner[2]);
-    mesh.triangles.emplace_back(2 * corner[0] + 1, 2 * corner[1] + 1, 2 * corner[2] + 1);
-    mesh.triangles.emplace_back(2 * corner[0], 2 * corner[2], 2 * corner[1]);
+    mesh.triangles.emplace_back(2 * c[0] + 1, 2 * c[1] + 1, 2 * c[2] + 1);
+    mesh.triangles.emplace_back(2 * c[0], 2 * c[2], 2 * c[1]);
   }
 
   // Walls: one quad per ring edge p -> q. The solid lies left of the edge, so the quad
@@ -219,28 +234,8 @@ std::vector<glm::uvec3> triangulatePolygon(const std::vector<std::vector<glm::dv
     if (reason) GEOSFree_r(ctx.get(), reason);
     throw InputError(what + ": invalid polygon: " + why);
   }
-  const GeomPtr triangles(GEOSConstrainedDelaunayTriangulation_r(ctx.get(), polygon.get()), GeomDeleter{ctx.get()});
-  if (!triangles) throw InputError(what + ": triangulation failed: " + ctx.lastError());
-  std::vector<glm::uvec3> out;
-  const int count = GEOSGetNumGeometries_r(ctx.get(), triangles.get());
-  for (int t = 0; t < count; ++t) {
-    const GEOSGeometry* tri = GEOSGetGeometryN_r(ctx.get(), triangles.get(), t);
-    const GEOSGeometry* shell = GEOSGetExteriorRing_r(ctx.get(), tri);
-    const GEOSCoordSequence* seq = shell ? GEOSGeom_getCoordSeq_r(ctx.get(), shell) : nullptr;
-    unsigned size = 0;
-    if (!seq || !GEOSCoordSeq_getSize_r(ctx.get(), seq, &size) || size < 3)
-      throw InputError(what + ": the triangulation returned a malformed triangle");
-    glm::uvec3 corner;
-    glm::dvec2 xy[3];
-    for (unsigned c = 0; c < 3; ++c) {
-      GEOSCoordSeq_getXY_r(ctx.get(), seq, c, &xy[c].x, &xy[c].y);
-      const auto it = index.find({xy[c].x, xy[c].y});
-      if (it == index.end()) throw InputError(what + ": the triangulation introduced a vertex");
-      corner[int(c)] = it->second;
-    }
-    if (twiceSignedArea({xy[0], xy[1], xy[2]}) < 0.0) std::swap(corner[1], corner[2]);
-    out.push_back(corner);
-  }
+  const std::vector<glm::uvec3> out =
+      constrainedDelaunay(ctx, polygon.get(), index, [&](const std::string& why) { return InputError(what + ": " + why); });
   if (out.empty()) throw InputError(what + ": zero area");
   return out;
 }
