@@ -64,11 +64,15 @@ uniform bool u_maskFeather;        // feather toward mask edges too (from a mip 
 // texel area a view pixel covers, textureLod); 2 textureGrad with anisotropic filtering.
 uniform int u_mipmaps;
 uniform float u_sliceWidth;        // texels of a slice
+// The transient filter's spread (RGB in [0, 1]); 0: off. Twin: hv::ibr::consensusWeights.
+uniform float u_consensus;
 
 out vec4 o_color;
 
 // hv::ibr::kMaxGeometryK + 1: a pixel's best K and the K+1-th.
 #define HV_MAX_BEST 17
+// hv::ibr::kMaxConsensusSamples: the samples the transient filter looks at.
+#define HV_MAX_CONSENSUS 16
 
 bool colourMode() { return u_mode == 0 || u_mode >= 4; }
 
@@ -152,6 +156,57 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
 #endif
 
 #ifndef HV_NAIVE
+// The transient filter (docs/design.md, step 5, "Consensus"), twin of hv::ibr::consensusWeights:
+// from the component-wise median of the contributing samples' colours, three mean-shift steps with
+// a Gaussian kernel weighted by the blend weights, then each weight times the kernel at its
+// colour, relative to the sample nearest the mode. Fewer than three contributing samples: as is.
+void hv_consensus(vec4 t[HV_MAX_CONSENSUS], inout float w[HV_MAX_CONSENSUS], int n) {
+  vec3 col[HV_MAX_CONSENSUS];
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    col[i] = t[i].rgb / max(t[i].a, 1e-20);
+    if (w[i] > 0.0) m += 1;
+  }
+  if (m < 3) return;
+  vec3 mode = vec3(0.0);
+  float v[HV_MAX_CONSENSUS];
+  for (int c = 0; c < 3; ++c) {
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+      if (w[i] <= 0.0) continue;
+      float x = col[i][c];
+      int j = k;
+      while (j > 0 && v[j - 1] > x) {
+        v[j] = v[j - 1];
+        --j;
+      }
+      v[j] = x;
+      k += 1;
+    }
+    mode[c] = (m & 1) == 1 ? v[m / 2] : 0.5 * (v[m / 2 - 1] + v[m / 2]);
+  }
+  float kk = 0.5 / (u_consensus * u_consensus);
+  float g[HV_MAX_CONSENSUS];
+  for (int step = 0; step < 4; ++step) {
+    float least = 1e30;
+    for (int i = 0; i < n; ++i) {
+      vec3 d = col[i] - mode;
+      g[i] = dot(d, d);
+      if (w[i] > 0.0) least = min(least, g[i]);
+    }
+    for (int i = 0; i < n; ++i) g[i] = w[i] > 0.0 ? exp(-kk * (g[i] - least)) : 0.0;
+    if (step == 3) break;
+    vec3 s = vec3(0.0);
+    float total = 0.0;
+    for (int i = 0; i < n; ++i) {
+      s += w[i] * g[i] * col[i];
+      total += w[i] * g[i];
+    }
+    mode = s / total;
+  }
+  for (int i = 0; i < n; ++i) w[i] *= g[i];
+}
+
 // Texture coordinates of a render-frame point in image `im` (its distorted pixel, through the lens
 // model, times uvScale), for the footprint's derivatives.
 vec2 hv_uvAt(HvImage im, vec3 Q) {
@@ -266,6 +321,15 @@ void main() {
   float bestF[HV_MAX_BEST];
   int bestI[HV_MAX_BEST];
   int nBest = 0;
+  // The transient filter: the pixel's samples (texel, f or w, feather, index) kept for reweighting.
+  bool consensus = u_consensus > 0.0 && u_method != 1;
+  vec4 sampT[HV_MAX_CONSENSUS];
+  float sampW[HV_MAX_CONSENSUS];
+  float sampF[HV_MAX_CONSENSUS];
+  int sampI[HV_MAX_CONSENSUS];
+  int nSamp = 0;
+  int nPassed = 0;
+  float fNextRegion = 0.0;
   for (int k = 0; k < n; ++k) {
     int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
     HvImage im = hv_fetchImage(i);
@@ -277,6 +341,23 @@ void main() {
     vec4 texel = hv_correctColour(im, hv_samplePhoto(im, uv, P, dPdx, dPdy));
     if (texel.a <= 0.0) continue;
     float feather = hv_feather(im, p, pd, uv);
+    if (!geometry && consensus) {
+      // As hv_accumulateFeathered: region, the first K that pass, f(d_K+1) from the next one;
+      // global, every image with a weight.
+      if (u_region && nPassed == u_blendK) {
+        fNextRegion = im.weight;
+        break;
+      }
+      nPassed += 1;
+      if (nSamp < HV_MAX_CONSENSUS && (u_region || im.weight * feather > 0.0)) {
+        sampT[nSamp] = texel;
+        sampW[nSamp] = im.weight;
+        sampF[nSamp] = feather;
+        sampI[nSamp] = i;
+        nSamp += 1;
+      }
+      continue;
+    }
     if (!geometry) {
       hv_accumulateFeathered(i, im, texel, feather, u_method == 1, u_debugImage, blend);
       if (blend.done) break;
@@ -298,7 +379,30 @@ void main() {
     bestI[j] = i;
     nBest = min(nBest + 1, cap);
   }
-  if (geometry) {
+  if (consensus) {
+    // The samples' blend weights, as below and in hv_accumulateFeathered, then the filter.
+    if (geometry) {
+      float e2 = u_penaltyEpsilon * u_penaltyEpsilon;
+      float fNextG = nBest == cap ? 1.0 / (e2 + bestP[cap - 1] * bestP[cap - 1]) : 0.0;
+      for (int j = 0; j < min(nBest, cap - 1); ++j) {
+        sampT[j] = bestT[j];
+        sampW[j] = max(0.0, 1.0 / (e2 + bestP[j] * bestP[j]) - fNextG) * bestF[j];
+        sampI[j] = bestI[j];
+      }
+      nSamp = min(nBest, cap - 1);
+    } else {
+      for (int j = 0; j < nSamp; ++j) sampW[j] = (u_region ? max(0.0, sampW[j] - fNextRegion) : sampW[j]) * sampF[j];
+    }
+    hv_consensus(sampT, sampW, nSamp);
+    for (int j = 0; j < nSamp; ++j) {
+      float w = sampW[j];
+      if (w <= 0.0) continue;
+      blend.sum += w * sampT[j].rgb;
+      blend.alpha += w * sampT[j].a;
+      blend.count += 1;
+      if (sampI[j] == u_debugImage) blend.mine = w * sampT[j].a;
+    }
+  } else if (geometry) {
     // w_j = (f(p_j) - f(p_K+1)) * feather_j over the best K (hv::ibr::blendWeights of the penalties).
     float e2 = u_penaltyEpsilon * u_penaltyEpsilon;
     float fNext = nBest == cap ? 1.0 / (e2 + bestP[cap - 1] * bestP[cap - 1]) : 0.0;

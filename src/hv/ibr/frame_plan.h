@@ -58,6 +58,10 @@ struct BlendSettings {
   // Weights fall smoothly to 0 over this many photograph pixels toward each photograph's border,
   // lens domain edge and mask edges; 0: hard edges (the papers').
   double featherPx = 0.0;
+  // Transient filter (hv/ibr/consensus.h): at each pixel, images whose colour is far from the
+  // others' common colour lose their weight (a Gaussian of this spread, RGB in [0, 1]); 0: off
+  // (the papers').
+  double consensus = 0.0;
   // Photograph slices sampled with mipmaps, the level from the projected footprint (through the
   // lens distortion), and anisotropic filtering up to `anisotropy` where the context has it; off:
   // level 0 (the papers'). Anisotropy 1 by default: Mesa's software rasteriser filters each

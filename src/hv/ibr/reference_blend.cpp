@@ -1,5 +1,7 @@
 #include "hv/ibr/reference_blend.h"
 
+#include "hv/ibr/consensus.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -51,14 +53,40 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
   // Region: the images that passed so far, with their texels (the first K blend, the K+1-th ends it).
   std::vector<std::pair<size_t, glm::dvec4>> passed;
   std::vector<double> feather(images.size(), 1.0), penalty(images.size(), 0.0);
-  // Image i's texel into the blend with weight w (times its feather).
+  // The pixel's samples: image i's texel with weight w (times its feather), in visiting order.
+  struct Sample {
+    size_t image;
+    glm::dvec4 texel;
+    double weight;
+  };
+  std::vector<Sample> samples;
   const auto add = [&](size_t i, const glm::dvec4& texel, double weight) {
     const double w = weight * feather[i];
-    if (w <= 0.0) return;
-    sum += w * glm::dvec3(texel);  // premultiplied: rgb already times alpha
-    out.alpha += w * texel.a;
-    out.contribution[i] = w * texel.a;
-    ++out.count;
+    if (w > 0.0) samples.push_back({i, texel, w});
+  };
+  // The blend of the samples, after the transient filter when it is on (its first
+  // kMaxConsensusSamples samples, as the shader's arrays hold).
+  const auto finish = [&] {
+    if (opt.consensusSpread > 0.0) {
+      if (samples.size() > size_t(kMaxConsensusSamples)) samples.resize(kMaxConsensusSamples);
+      std::vector<glm::dvec3> colour;
+      std::vector<double> weight;
+      for (const Sample& s : samples) {
+        colour.push_back(glm::dvec3(s.texel) / s.texel.a);
+        weight.push_back(s.weight);
+      }
+      consensusWeights(colour, weight, opt.consensusSpread);
+      for (size_t j = 0; j < samples.size(); ++j) samples[j].weight = weight[j];
+    }
+    for (const Sample& s : samples) {
+      if (s.weight <= 0.0) continue;
+      sum += s.weight * glm::dvec3(s.texel);  // premultiplied: rgb already times alpha
+      out.alpha += s.weight * s.texel.a;
+      out.contribution[s.image] = s.weight * s.texel.a;
+      ++out.count;
+    }
+    if (out.alpha > 0.0) out.color = sum / out.alpha;
+    return out;
   };
   for (size_t i = 0; i < images.size(); ++i) {
     const ImageParams& im = images[i];
@@ -109,16 +137,16 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
     for (size_t j = 0; j < blended; ++j)
       add(passed[j].first, passed[j].second,
           std::max(0.0, blendFalloff(penalty[passed[j].first], opt.penaltyEpsilon) - fNext));
-    if (out.alpha > 0.0) out.color = sum / out.alpha;
-    return out;
+    return finish();
   }
   if (selection == Selection::Region) {
     const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
     const double fNext = passed.size() > blended ? images[passed[blended].first].weight : 0.0;
-    for (size_t j = 0; j < blended; ++j) add(passed[j].first, passed[j].second, images[passed[j].first].weight - fNext);
+    // With the transient filter, the shader keeps the first kMaxConsensusSamples that pass.
+    const size_t kept = opt.consensusSpread > 0.0 ? std::min(blended, size_t(kMaxConsensusSamples)) : blended;
+    for (size_t j = 0; j < kept; ++j) add(passed[j].first, passed[j].second, images[passed[j].first].weight - fNext);
   }
-  if (out.alpha > 0.0) out.color = sum / out.alpha;
-  return out;
+  return finish();
 }
 
 glm::dvec4 sampleBilinear(const Image8& img, glm::dvec2 uv) {

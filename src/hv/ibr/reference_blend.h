@@ -46,6 +46,8 @@ struct BlendOptions {
   double resolutionWeight = 0.5;
   double penaltyEpsilon = 0.05;
   double featherPx = 0.0;
+  // Transient filter (consensusWeights): the kernel's spread in RGB; 0: off.
+  double consensusSpread = 0.0;
   glm::dvec3 viewCenter{0.0};  // render frame
   double viewFocal = 1.0;      // pixels
   glm::dvec3 normal{0.0, 0.0, 1.0};
@@ -72,7 +74,8 @@ glm::dvec4 correctTexel(const ColourCorrection& colour, const glm::dvec4& texel)
 // Geometry weighting (either selection): every image that passes is ranked by its penalty
 // p_i (hv/ibr/weights.h), ties in list order; the first k blend with f(p_i) - f(p_K+1), f with
 // sigma = penaltyEpsilon. Feathering multiplies each weight by featherFactor(borderDistance) and,
-// with a mask lookup, maskFeather of the mask at featherLevel.
+// with a mask lookup, maskFeather of the mask at featherLevel. The transient filter
+// (consensusWeights, blend only) then reweights the first kMaxConsensusSamples contributing images.
 BlendResult referenceBlend(const glm::dvec3& pointRender, const std::vector<ImageParams>& images, BlendMethod method,
                            const TextureLookup& texture, const VisibilityTest& visible,
                            Selection selection = Selection::Global, int k = 0, const BlendOptions& options = {});

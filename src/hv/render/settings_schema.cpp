@@ -191,6 +191,11 @@ std::vector<Setting> makeSchema() {
                     "photograph's border, lens domain edge and mask edges; 0: hard edges (the papers')",
                     [](auto& s) -> auto& { return s.blend.featherPx; })
                   .unit("px").atLeast(0).atMost(1e4).slider(0, 256));
+  t.push_back(field("consensus", blend, "transient filter: where the photographs at a pixel disagree, those far from "
+                    "their common colour lose their weight (a Gaussian of this spread, RGB in 0-1, around the mode of "
+                    "their colours); 0: off (the papers')",
+                    [](auto& s) -> auto& { return s.blend.consensus; })
+                  .atLeast(0).atMost(1).slider(0, 0.5));
   t.push_back(field("mipmaps", blend, "sample the photographs with mipmaps, the level from the projected footprint "
                     "through the lens distortion (off: level 0, the papers')",
                     [](auto& s) -> auto& { return s.blend.mipmaps; }));

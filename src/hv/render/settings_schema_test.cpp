@@ -23,6 +23,7 @@ std::string otherText(const Setting& s) {
     }
     case SettingType::Double:
       if (s.autoValue) return "0.5";
+      if (s.max < 3.5) return def == "0.25" ? "0.125" : "0.25";  // a setting in [0, 1]
       return def == "2.5" ? "3.5" : "2.5";
     case SettingType::Enum: return s.spellings.front() == def ? s.spellings.back() : s.spellings.front();
     case SettingType::IntList: return "3,4";

@@ -117,6 +117,7 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   viewFocal = tiles("u_viewFocal");
   feather = tiles("u_feather");
   maskFeather = tiles("u_maskFeather");
+  consensus = tiles("u_consensus");
   mipmaps = tiles("u_mipmaps");
   sliceWidth = tiles("u_sliceWidth");
   shading = u.required("u_shading");

@@ -52,9 +52,10 @@ struct ShadeProgram {
   // shaders/untextured.glsl: where no photograph contributes.
   GLint shading = -1, sky = -1, up = -1, sunDir = -1, albedo = -1, skyLight = -1, groundLight = -1, sunLight = -1,
         horizon = -1, zenith = -1;
-  // Picture quality (the array binding only; -1 in the naive one): weights, feathering, mipmaps.
+  // Picture quality (the array binding only; -1 in the naive one): weights, feathering, mipmaps,
+  // the transient filter.
   GLint weighting = -1, resolutionWeight = -1, penaltyEpsilon = -1, viewFocal = -1, feather = -1, maskFeather = -1,
-        mipmaps = -1, sliceWidth = -1;
+        mipmaps = -1, sliceWidth = -1, consensus = -1;
   ShadeProgram() = default;
   // naiveCount > 0: the naive binding with that many images.
   explicit ShadeProgram(const ProgramSource& src, int naiveCount = 0);

@@ -77,6 +77,7 @@ void GlBackend::bindShadeInputs(const Frame& f) {
     glUniform1f(p.viewFocal, float(0.5 * (view.focal.x + view.focal.y)));
     glUniform1f(p.feather, float(std::max(b.featherPx, 0.0)));
     glUniform1i(p.maskFeather, b.featherPx > 0.0 && b.masks ? 1 : 0);
+    glUniform1f(p.consensus, float(std::max(b.consensus, 0.0)));
     glUniform1i(p.mipmaps, !b.mipmaps ? 0 : anisotropic ? 2 : 1);
     glUniform1f(p.sliceWidth, float(layout_.slice.width));
   }
