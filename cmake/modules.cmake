@@ -107,6 +107,9 @@ function(hv_define_modules)
   hv_module(io_native DIRS io/native io/native/private DEPS camera scene scene_native util PRIVATE_DEPS io
             PRIVATE_EXTERNAL gdal proj assimp pugixml json)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
+  # Layers from ray casts, their pre-fill from the other photographs, OpenRaster files (libzip).
+  hv_module(layers_native DIRS layers/native DEPS camera image layers scene util PRIVATE_DEPS image_native scene_native
+            PRIVATE_EXTERNAL zip pugixml)
   hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native render_gl
             PRIVATE_EXTERNAL json)
   hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl viewer
@@ -121,7 +124,8 @@ function(hv_define_modules)
     # Without GLFW and Dear ImGui, `histoview view` says what to install (no_viewer.cpp).
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/viewer_app\\.cpp$" DEPS session)
   endif()
-  hv_module(app DIRS app DEPS camera io render PRIVATE_DEPS demo eval gpu image image_native io_native pose scene
+  hv_module(app DIRS app DEPS camera io render PRIVATE_DEPS demo eval gpu image image_native io_native layers
+            layers_native pose scene
             scene_native session util viewer viewer_desktop PRIVATE_EXTERNAL cli11 json)
   # Header-only helpers of the tests.
   hv_module(testing DIRS testing EXTERNAL glm)
