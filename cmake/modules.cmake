@@ -109,7 +109,7 @@ function(hv_define_modules)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
   # Layers from ray casts, their pre-fill from the other photographs, OpenRaster files (libzip).
   hv_module(layers_native DIRS layers/native DEPS camera image layers scene util PRIVATE_DEPS image_native scene_native
-            PRIVATE_EXTERNAL zip pugixml)
+            PRIVATE_EXTERNAL zip pugixml json)
   hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native render_gl
             PRIVATE_EXTERNAL json)
   hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl viewer

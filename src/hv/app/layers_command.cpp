@@ -2,6 +2,7 @@
 
 #include "hv/io/native/scene_loader.h"
 #include "hv/layers/native/layer_export.h"
+#include "hv/layers/native/layer_import.h"
 #include "hv/layers/native/openraster.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
@@ -82,6 +83,18 @@ int runLayersExport(const LayersExportOptions& o) {
     << ex.hits.hits.size() << " surfaces on " << ex.hits.pixelCount() << " rays (cast " << ex.castSeconds << " s, peel "
     << ex.peelSeconds << " s, fill " << ex.fillSeconds << " s, " << ex.prefillPhotos
     << " photographs for the pre-fill)\n";
+  std::vector<int> layerOf;
+  std::vector<glm::ivec2> sizes;
+  for (const auto& l : ex.imageLayers) {
+    layerOf.push_back(l.visibilityLayer);
+    sizes.push_back({l.box.width(), l.box.height()});
+  }
+  const layers::LayerTextureMemory mem = layers::layerTextureMemory(layerOf, sizes, ex.camera.width, ex.camera.height);
+  m << "texture memory (power-of-two textures): " << mem.subImages << " sub-images " << mem.subImageTexels
+    << " texels against " << mem.wholeImageTexels << " for one whole texture per visibility layer ("
+    << std::setprecision(1)
+    << (mem.wholeImageTexels > 0 ? 100.0 * double(mem.subImageTexels) / double(mem.wholeImageTexels) : 0.0) << " %)\n"
+    << std::setprecision(2);
   for (const auto& l : ex.imageLayers)
     m << "  " << l.name << ": " << l.box.width() << "x" << l.box.height() << " at (" << l.box.x0 << ", " << l.box.y0
       << "), " << l.photoPixels << " seen, " << l.prefilledPixels << " pre-filled, " << l.emptyPixels

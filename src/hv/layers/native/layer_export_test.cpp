@@ -1,10 +1,18 @@
 #include "hv/layers/native/layer_export.h"
 
 #include "hv/demo/demo_city.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/layers/native/layer_import.h"
 #include "hv/layers/native/openraster.h"
 
 #include <gtest/gtest.h>
+#include <zip.h>
+#include <nlohmann/json.hpp>
+#include <pugixml.hpp>
+
+#include <fstream>
+#include <map>
 
 #include <unistd.h>
 #include <filesystem>
@@ -141,6 +149,127 @@ TEST_F(DemoLayers, BuildingHidingAnotherGivesAPrefilledSecondLayer) {
     if (l.visibilityLayer == 2) bare2 += l.prefilledPixels;
   EXPECT_EQ(bare2, 0u);
   EXPECT_EQ(bare.visibility.layers.size(), ex.visibility.layers.size());
+}
+
+// Paints every pixel of the first "L2 " layer of an .ora with `colour`, as an artist would: the
+// archive edited in place with a zip library, the layer's PNG decoded, painted, encoded.
+std::string paintFirstLayer2(const fs::path& ora, glm::u8vec4 colour) {
+  int err = 0;
+  zip_t* z = zip_open(ora.c_str(), 0, &err);
+  EXPECT_NE(z, nullptr);
+  if (!z) return "";
+  auto read = [&](const std::string& name) {
+    zip_stat_t st;
+    zip_stat(z, name.c_str(), 0, &st);
+    std::vector<std::uint8_t> b(st.size);
+    zip_file_t* f = zip_fopen(z, name.c_str(), 0);
+    zip_fread(f, b.data(), st.size);
+    zip_fclose(f);
+    return b;
+  };
+  const std::vector<std::uint8_t> xml = read("stack.xml");
+  pugi::xml_document d;
+  d.load_buffer(xml.data(), xml.size());
+  std::string name, src;
+  for (pugi::xml_node l : d.child("image").child("stack").children("layer"))
+    if (std::string(l.attribute("name").value()).rfind("L2 ", 0) == 0) {
+      name = l.attribute("name").value();
+      src = l.attribute("src").value();
+      break;
+    }
+  EXPECT_FALSE(src.empty()) << "no L2 layer";
+  if (src.empty()) {
+    zip_discard(z);
+    return "";
+  }
+  const std::vector<std::uint8_t> png = read(src);
+  Image8 img = decodeImage(png.data(), png.size(), src, 4);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < 4; ++c) img.at(x, y, c) = colour[c];
+  static std::vector<std::uint8_t> painted;  // zip_close reads it
+  painted = encodePng(img, src);
+  zip_source_t* s = zip_source_buffer(z, painted.data(), painted.size(), 0);
+  EXPECT_EQ(zip_file_replace(z, zip_uint64_t(zip_name_locate(z, src.c_str(), 0)), s, 0), 0);
+  EXPECT_EQ(zip_close(z), 0);
+  return name;
+}
+
+TEST_F(DemoLayers, RoundTripThroughAnEditAndSceneJson) {
+  // A photograph with at least two visibility layers.
+  std::size_t photo = scene_->photos.size();
+  LayerExport ex;
+  LayerExportSettings settings;
+  for (std::size_t i = 0; i < scene_->photos.size() && photo == scene_->photos.size(); ++i) {
+    settings.width = scene_->photos[i].camera.width / 4;
+    settings.height = scene_->photos[i].camera.height / 4;
+    settings.prefill = false;
+    Diagnostics diag;
+    ex = exportLayers(*scene_, i, settings, diag);
+    if (ex.visibility.layers.size() >= 2) photo = i;
+  }
+  ASSERT_LT(photo, scene_->photos.size());
+  const Camera& camera = scene_->photos[photo].camera;
+  const fs::path sceneDir = fs::path(scene_->path).parent_path();
+  const fs::path ora = sceneDir / "edited.ora";
+  writeOpenRaster(ora.string(), ex.document);
+  const glm::u8vec4 magenta(255, 0, 255, 255);
+  const std::string painted = paintFirstLayer2(ora, magenta);
+  ASSERT_FALSE(painted.empty());
+
+  // scene.json names it; a second entry names no photograph.
+  nlohmann::json doc;
+  std::ifstream(scene_->path) >> doc;
+  doc["layers"] = {{camera.id, "edited.ora"}, {"no-such-camera", "edited.ora"}};
+  std::ofstream(sceneDir / "scene-layers.json") << doc.dump(2);
+  Diagnostics diag;
+  const Scene scene = loadScene((sceneDir / "scene-layers.json").string(), diag);
+  const std::map<std::string, std::string> files = readLayerFiles(scene, diag);
+  ASSERT_EQ(files.size(), 1u);
+  ASSERT_EQ(files.count(camera.id), 1u);
+  EXPECT_EQ(fs::path(files.at(camera.id)), fs::path(ora).lexically_normal());
+  bool named = false;
+  for (const std::string& e : diag.errors) named |= e.find("layers: 'no-such-camera'") != std::string::npos;
+  EXPECT_TRUE(named) << "the entry naming no photograph is not reported";
+
+  const ImportedLayers in = importLayers(files.at(camera.id), camera);
+  ASSERT_EQ(in.subImages.size(), ex.imageLayers.size());
+  EXPECT_EQ(in.skipped, int(ex.document.layers.size() - ex.imageLayers.size()));  // guide, background
+  const double s = double(camera.width) / settings.width;
+  bool found = false;
+  for (std::size_t i = 0; i < in.subImages.size(); ++i) {
+    const ImportedSubImage& sub = in.subImages[i];
+    const ImageLayerInfo& info = ex.imageLayers[i];
+    EXPECT_EQ(sub.visibilityLayer, info.visibilityLayer);
+    EXPECT_EQ(sub.name, info.name);
+    EXPECT_DOUBLE_EQ(sub.window.pxMin.x, info.box.x0 * s);
+    EXPECT_DOUBLE_EQ(sub.window.pxMax.y, info.box.y1 * s);
+    if (sub.name == painted) {
+      found = true;
+      for (int y = 0; y < sub.rgba.height; ++y)
+        for (int x = 0; x < sub.rgba.width; ++x)
+          ASSERT_EQ(glm::u8vec4(sub.rgba.at(x, y, 0), sub.rgba.at(x, y, 1), sub.rgba.at(x, y, 2), sub.rgba.at(x, y, 3)),
+                    magenta);
+    } else {
+      // Not edited: as exported.
+      EXPECT_EQ(sub.rgba.data, ex.document.layers[i + 1].rgba.data) << sub.name;
+    }
+  }
+  EXPECT_TRUE(found);
+  // Another size of the photograph's aspect ratio reads; another aspect ratio is refused.
+  Camera other = camera;
+  other.height = camera.height * 2;
+  EXPECT_THROW(importLayers(ora.string(), other), InputError);
+}
+
+TEST(LayerTextureMemory, PowerOfTwoSubImagesAgainstWholeLayers) {
+  // 640x480 -> 1024 x 512 per whole layer; two layers. Sub-images 100x50 (128 x 64) and 300x200
+  // (512 x 256) in layer 1, 60x60 (64 x 64) in layer 2.
+  const LayerTextureMemory m = layerTextureMemory({1, 1, 2}, {{100, 50}, {300, 200}, {60, 60}}, 640, 480);
+  EXPECT_EQ(m.visibilityLayers, 2);
+  EXPECT_EQ(m.subImages, 3);
+  EXPECT_EQ(m.subImageTexels, 128 * 64 + 512 * 256 + 64 * 64);
+  EXPECT_EQ(m.wholeImageTexels, 2 * 1024 * 512);
 }
 
 }  // namespace
