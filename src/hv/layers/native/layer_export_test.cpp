@@ -109,6 +109,28 @@ TEST_F(DemoLayers, BuildingHidingAnotherGivesAPrefilledSecondLayer) {
     if (l.visibilityLayer == 2) prefilled2 += l.prefilledPixels;
   EXPECT_GT(prefilled2, 0u) << "layer 2 got nothing from the other photographs";
 
+  // With every layer shown, the photograph: each pixel's first surface is in the layer that holds
+  // it, and no shallower layer has anything on that ray (its objects would be behind a deeper one).
+  {
+    const Photo& photo = scene_->photos[best];
+    Image8 rgb = readImage(photo.imagePath, 3);
+    rgb = resizeImage(rgb, settings.width, settings.height);
+    Image8 mask;
+    if (!photo.maskPath.empty()) mask = resizeImage(readImage(photo.maskPath, 1), settings.width, settings.height);
+    const Image8 merged = compositeLayers(ex.document);
+    std::size_t differ = 0, compared = 0;
+    for (int y = 0; y < settings.height; ++y)
+      for (int x = 0; x < settings.width; ++x) {
+        if (!mask.empty() && mask.at(x, y, 0) < 128) continue;
+        ++compared;
+        const std::uint8_t* m = merged.px(x, y);
+        const std::uint8_t* r = rgb.px(x, y);
+        differ += m[3] != 255 || m[0] != r[0] || m[1] != r[1] || m[2] != r[2];
+      }
+    EXPECT_GT(compared, std::size_t(settings.width) * std::size_t(settings.height) / 2);
+    EXPECT_EQ(differ, 0u) << "of " << compared << " pixels";
+  }
+
   // Written and read back: names, order, sizes, and the pixels counted above are opaque.
   const fs::path ora = *dir_ / "layers.ora";
   writeOpenRaster(ora.string(), ex.document);
