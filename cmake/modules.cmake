@@ -99,12 +99,17 @@ function(hv_define_modules)
             DEPS gpu render PRIVATE_DEPS camera ibr image scene util)
   hv_module(viewer PORTABLE DIRS viewer DEPS camera PRIVATE_DEPS scene)
   hv_module(pose PORTABLE DIRS pose DEPS camera util EXTERNAL glm PRIVATE_EXTERNAL eigen)
+  # Layered projective texture maps (2003): visibility layers, image-layer clustering, sub-image frusta.
+  hv_module(layers PORTABLE DIRS layers DEPS camera EXTERNAL glm)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
   hv_module(scene_native DIRS scene/native DEPS scene util PRIVATE_EXTERNAL geos embree)
   hv_module(io_native DIRS io/native io/native/private DEPS camera scene scene_native util PRIVATE_DEPS io
             PRIVATE_EXTERNAL gdal proj assimp pugixml json)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
+  # Layers from ray casts, their pre-fill from the other photographs, OpenRaster files (libzip).
+  hv_module(layers_native DIRS layers/native DEPS camera image layers scene util PRIVATE_DEPS image_native scene_native
+            PRIVATE_EXTERNAL zip pugixml json)
   hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native render_gl
             PRIVATE_EXTERNAL json)
   hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl viewer
@@ -119,7 +124,8 @@ function(hv_define_modules)
     # Without GLFW and Dear ImGui, `histoview view` says what to install (no_viewer.cpp).
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/viewer_app\\.cpp$" DEPS session)
   endif()
-  hv_module(app DIRS app DEPS camera io render PRIVATE_DEPS demo eval gpu image image_native io_native pose scene
+  hv_module(app DIRS app DEPS camera io render PRIVATE_DEPS demo eval gpu image image_native io_native layers
+            layers_native pose scene
             scene_native session util viewer viewer_desktop PRIVATE_EXTERNAL cli11 json)
   # Header-only helpers of the tests.
   hv_module(testing DIRS testing EXTERNAL glm)

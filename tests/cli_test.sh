@@ -262,6 +262,38 @@ for id in "${ids[@]:1}"; do
   check "bad view camera: good view $id still written" test -s "$DIR/rbadview/$id.png"
 done
 
+# Layered projective texture maps (`histoview layers export`, docs/layers.md): an OpenRaster file,
+# mimetype first and stored, layers named L<k> top first, the guide hidden; an unknown photograph
+# and a size of another aspect ratio are refused, named.
+layer_id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["id"])' "$city/cameras.json")
+run layers layers export "$city/scene.json" --image "$layer_id" "$DIR/layers.ora" --size 160x120
+expect_rc "layers export" 0
+expect_out "layers export" "[0-9]+ visibility layers, [0-9]+ image layers"
+check "layers export: an OpenRaster file" python3 - "$DIR/layers.ora" <<'PY'
+import re, sys, zipfile, xml.etree.ElementTree as ET
+z = zipfile.ZipFile(sys.argv[1])
+first = z.infolist()[0]
+assert first.filename == "mimetype" and first.compress_type == zipfile.ZIP_STORED, first
+assert z.read("mimetype") == b"image/openraster"
+image = ET.fromstring(z.read("stack.xml"))
+assert (image.get("w"), image.get("h")) == ("160", "120"), image.attrib
+layers = image.find("stack").findall("layer")
+assert layers[0].get("visibility") == "hidden", layers[0].attrib
+ks = [int(m.group(1)) for l in layers if (m := re.match(r"L([0-9]+) ", l.get("name")))]
+assert ks and ks[0] == 1 and ks == sorted(ks), ks
+for l in layers:
+    png = z.read(l.get("src"))
+    assert png[:8] == b"\x89PNG\r\n\x1a\n", l.get("src")
+for name in ("mergedimage.png", "Thumbnails/thumbnail.png"):
+    z.getinfo(name)
+PY
+run layers-unknown layers export "$city/scene.json" --image no-such-photo "$DIR/layers-x.ora"
+expect_rc "layers export: unknown photograph" 2
+expect_out "layers export: unknown photograph" "no photograph with id 'no-such-photo'"
+run layers-size layers export "$city/scene.json" --image "$layer_id" "$DIR/layers-x.ora" --size 160x160
+expect_rc "layers export: another aspect ratio" 1
+expect_out "layers export: another aspect ratio" "aspect ratio"
+
 # Colour corrections (`histoview harmonize`); a bad entry is reported (file, entry, field) and the
 # rest renders with the others' corrections.
 run harmonize harmonize "$city/scene.json" -o "$city/corrections.json" --samples 1500

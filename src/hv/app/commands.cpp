@@ -7,6 +7,7 @@
 #include "hv/app/eval_command.h"
 #include "hv/app/fly_command.h"
 #include "hv/app/harmonize_command.h"
+#include "hv/app/layers_command.h"
 #include "hv/session/outputs.h"
 #include "hv/app/pose_command.h"
 #include "hv/app/render_command.h"
@@ -29,6 +30,7 @@ void registerCommands(CLI::App& app) {
   addInfoCommand(app, g_exit);
   addCheckCommand(app, g_exit);
   addHarmonizeCommand(app, g_exit);
+  addLayersCommand(app, g_exit);
   addRenderCommand(app, g_exit);
   addEvalCommand(app, g_exit);
   addFlyCommand(app, g_exit);

@@ -211,10 +211,10 @@ PointCloud readPointFile(const std::string& p) {
 
 // The keys of scene.json (docs/formats.md). A key this version does not read is most often a
 // misspelt one ("terain"): the scene would load without what it names, so it is refused instead,
-// with the nearest known key.
+// with the nearest known key. "layers" is read by hv/layers/native/layer_import.h (readLayerFiles).
 void refuseUnknownKeys(const json& doc, const std::string& path) {
-  static const std::vector<std::string> kTop = {"crs",       "origin", "up",     "terrain",
-                                                "buildings", "mesh",   "points", "cameras", "colour"};
+  static const std::vector<std::string> kTop = {"crs",    "origin",  "up",     "terrain", "buildings",
+                                                "mesh",   "points",  "cameras", "colour", "layers"};
   static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
       {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},

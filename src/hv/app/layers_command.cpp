@@ -1,0 +1,129 @@
+#include "hv/app/layers_command.h"
+
+#include "hv/io/native/scene_loader.h"
+#include "hv/layers/native/layer_export.h"
+#include "hv/layers/native/layer_import.h"
+#include "hv/layers/native/openraster.h"
+#include "hv/session/outputs.h"
+#include "hv/session/session.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace hv::app {
+
+namespace {
+
+struct LayersExportOptions {
+  std::string scene;
+  std::string image;
+  std::string out;
+  std::string size;
+  bool noPrefill = false;
+  double terrainTile = 50.0;
+};
+
+int runLayersExport(const LayersExportOptions& o) {
+  Diagnostics diag;
+  Scene scene;
+  try {
+    scene = loadScene(o.scene, diag);
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitNoScene;
+  }
+  std::size_t index = scene.photos.size();
+  for (std::size_t i = 0; i < scene.photos.size(); ++i)
+    if (scene.photos[i].camera.id == o.image) index = i;
+  if (index == scene.photos.size()) {
+    std::cerr << "error: " << o.scene << ": --image: no photograph with id '" << o.image << "' (the scene has "
+              << scene.photos.size() << " photographs; `histoview cameras` lists them)\n";
+    return kExitNoScene;
+  }
+  layers::LayerExportSettings settings;
+  settings.prefill = !o.noPrefill;
+  settings.terrainTileMetres = o.terrainTile;
+  if (!o.size.empty()) {
+    try {
+      const glm::ivec2 s = parseSize(o.size);
+      settings.width = s.x;
+      settings.height = s.y;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "error: --size: " << e.what() << "\n";
+      return kExitNotProduced;
+    }
+  }
+  layers::LayerExport ex;
+  try {
+    ex = layers::exportLayers(scene, index, settings, diag);
+  } catch (const InputError& e) {
+    std::cerr << "error: camera '" << o.image << "': " << e.what() << "\n";
+    return kExitNotProduced;
+  }
+  try {
+    layers::writeOpenRaster(o.out, ex.document);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitNotProduced;
+  }
+  for (const auto& w : diag.warnings) std::cerr << "warning: " << w << "\n";
+  for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
+  for (const auto& c : ex.cycleNames)
+    std::cerr << "note: visibility cycle (each hides part of the next): " << c
+              << "; split at pixel level (docs/layers.md)\n";
+  std::ostringstream m;
+  m << std::fixed << std::setprecision(2);
+  m << "layers: camera '" << o.image << "' at " << ex.camera.width << "x" << ex.camera.height << ": "
+    << ex.visibility.layers.size() << " visibility layers, " << ex.imageLayers.size() << " image layers, "
+    << ex.objects.objects.size() << " objects in the scene, " << ex.visibility.cycles.size() << " cycles; "
+    << ex.hits.hits.size() << " surfaces on " << ex.hits.pixelCount() << " rays (cast " << ex.castSeconds << " s, peel "
+    << ex.peelSeconds << " s, fill " << ex.fillSeconds << " s, " << ex.prefillPhotos
+    << " photographs for the pre-fill)\n";
+  std::vector<int> layerOf;
+  std::vector<glm::ivec2> sizes;
+  for (const auto& l : ex.imageLayers) {
+    layerOf.push_back(l.visibilityLayer);
+    sizes.push_back({l.box.width(), l.box.height()});
+  }
+  const layers::LayerTextureMemory mem = layers::layerTextureMemory(layerOf, sizes, ex.camera.width, ex.camera.height);
+  m << "texture memory (power-of-two textures): " << mem.subImages << " sub-images " << mem.subImageTexels
+    << " texels against " << mem.wholeImageTexels << " for one whole texture per visibility layer ("
+    << std::setprecision(1)
+    << (mem.wholeImageTexels > 0 ? 100.0 * double(mem.subImageTexels) / double(mem.wholeImageTexels) : 0.0) << " %)\n"
+    << std::setprecision(2);
+  for (const auto& l : ex.imageLayers)
+    m << "  " << l.name << ": " << l.box.width() << "x" << l.box.height() << " at (" << l.box.x0 << ", " << l.box.y0
+      << "), " << l.photoPixels << " seen, " << l.prefilledPixels << " pre-filled, " << l.emptyPixels
+      << " left empty\n";
+  std::cout << m.str() << "wrote " << o.out << "\n";
+  return exitStatus(diag);
+}
+
+}  // namespace
+
+void addLayersCommand(CLI::App& app, int& exitCode) {
+  auto* layers = app.add_subcommand(
+      "layers", "layered projective texture maps: a photograph's visibility layers as image-editing layers");
+  layers->require_subcommand(1);
+  auto* cmd = layers->add_subcommand(
+      "export",
+      "write a photograph's visibility layers as an OpenRaster file (.ora: GIMP, Krita, MyPaint), the hidden "
+      "parts pre-filled from the other photographs");
+  cmd->footer(exitStatusHelp());
+  auto o = std::make_shared<LayersExportOptions>();
+  cmd->add_option("scene", o->scene, "scene.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("out", o->out, "the .ora file to write")->required();
+  cmd->add_option("--image", o->image, "the photograph's camera id")->required();
+  cmd->add_option("--size", o->size, "the layers' size WxH (the photograph's aspect ratio; default its own size)");
+  cmd->add_flag("--no-prefill", o->noPrefill, "leave the hidden parts transparent");
+  cmd->add_option("--terrain-tile", o->terrainTile, "side of the terrain's objects (tiles), metres")
+      ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
+  setAction(*cmd, exitCode, [o] { return runLayersExport(*o); });
+}
+
+}  // namespace hv::app
