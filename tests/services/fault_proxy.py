@@ -16,7 +16,8 @@ later, part-way. Faults:
     malformed   the body replaced by a broken document of the same kind (XML, JSON) with a
                 correct Content-Length
 
-Each request is logged to LOG as one line: "<fault> <method> <path>". Listens on 127.0.0.1 only.
+Links to UPSTREAM in the answers (OGC API "next" and "items", the capabilities' online resources)
+are rewritten to go through the proxy with the same fault. Each request is logged to LOG as one line: "<fault> <method> <path>". Listens on 127.0.0.1 only.
 """
 import http.client
 import http.server
@@ -88,12 +89,21 @@ class Proxy(http.server.BaseHTTPRequestHandler):
             time.sleep(SLOW_S)
         up = http.client.HTTPConnection(UP_HOST, UP_PORT, timeout=60)
         try:
-            up.request("GET", rest, headers={"Host": f"{UP_HOST}:{UP_PORT}"})
+            # The client's headers go on (OGC API servers choose JSON or HTML by Accept).
+            headers = {k: v for k, v in self.headers.items() if k.lower() not in ("host", "connection")}
+            headers["Host"] = f"{UP_HOST}:{UP_PORT}"
+            up.request("GET", rest, headers=headers)
             r = up.getresponse()
             body = r.read()
             status, ctype = r.status, r.getheader("Content-Type", "application/octet-stream")
         finally:
             up.close()
+        # Links in the answer (OGC API "items" and "next", capabilities' online resources) point
+        # at the stack: made to point back through the proxy, with the same fault.
+        if ctype.startswith(("application/json", "application/geo+json", "text/xml", "application/xml",
+                             "application/gml+xml", "text/html")):
+            body = body.replace(f"http://{UP_HOST}:{UP_PORT}/".encode(),
+                                f"http://127.0.0.1:{PORT}/{fault}/".encode())
         if base == "truncated":
             return self.reply(status, body[: len(body) // 2], ctype, length=len(body))
         if base == "malformed":

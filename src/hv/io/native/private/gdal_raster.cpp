@@ -17,6 +17,7 @@
 #include "hv/io/native/raster.h"
 #include "hv/io/native/remote.h"
 #include "hv/io/native/terrain_raster.h"
+#include "hv/util/input_file.h"
 #include "hv/util/log.h"
 
 namespace hv {
@@ -41,7 +42,14 @@ DatasetPtr openRaster(const std::string& path) {
       openOptions.SetNameValue("Timeout", timeout);
   }
   DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, openOptions.List()));
-  if (!ds) throw InputError(inputMessage(path, "", "cannot open as a raster: " + gdal::lastError("unknown format")));
+  if (!ds) {
+    // The WCS driver gives up on an error status (after its retries) without a message of its own.
+    const char* fallback = isRemoteSource(path)
+                               ? "the service answered with no raster and GDAL gave no reason (an HTTP "
+                                 "error status, after the retries?)"
+                               : "unknown format";
+    throw InputError(inputMessage(path, "", "cannot open as a raster: " + gdal::lastError(fallback)));
+  }
   if (ds->GetRasterCount() < 1) throw InputError(inputMessage(path, "", "has no raster band"));
   return ds;
 }
