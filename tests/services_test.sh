@@ -161,6 +161,21 @@ state=$(sed -n 's/.*(state: \(.*\))$/\1/p' "$DIR/up.out")
 check "WFS GetFeature is paged (STARTINDEX, COUNT)" grep -q "REQUEST=GetFeature.*STARTINDEX=0&COUNT=" "$state/access.log"
 check "WFS GetFeature carries a BBOX filter" grep -q "REQUEST=GetFeature.*FILTER=.*BBOX" "$state/access.log"
 
+# Whole files by URL (read through GDAL's HTTP client): the lidar points from /files/, the same
+# count as from the file; a missing one is named with its HTTP status.
+printf '{"crs": "EPSG:2154", "points": {"path": "%s"}}\n' "$URL/files/points.las" >"$city/points-url.json"
+printf '{"crs": "EPSG:2154", "points": {"path": "points.las"}}\n' >"$city/points-file.json"
+printf '{"crs": "EPSG:2154", "points": {"path": "%s"}}\n' "$URL/files/none.las" >"$city/points-404.json"
+run points-url info "$city/points-url.json"
+expect_clean points-url 0
+points_url=$(sed -n 's/^points  *\([0-9]*\).*/\1/p' "$out")
+run points-file info "$city/points-file.json"
+points_file=$(sed -n 's/^points  *\([0-9]*\).*/\1/p' "$out")
+check "points by URL: $points_url points, as from the file ($points_file)" test -n "$points_url" -a "$points_url" = "$points_file" -a "${points_url:-0}" -gt 0
+run points-404 info "$city/points-404.json"
+expect_clean points-404 3
+expect_out points-404 "$URL/files/none.las: HTTP error code : 404 \\(points left out\\)"
+
 # --- faults, through the proxy: /<fault>/... is forwarded to the stack and spoilt
 pport=$(free_port)
 python3 "$ROOT/tests/services/fault_proxy.py" "$pport" "$URL" "$DIR/proxy.log" >"$DIR/proxy.out" 2>&1 &
