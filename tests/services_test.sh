@@ -33,8 +33,9 @@ export HV_LOG=${HV_LOG:-error}
 export HV_CACHE_DIR=$DIR/cache          # GDAL's WCS descriptions: never in the user's cache
 # Short, bounded HTTP settings so that the faults below resolve in seconds (the defaults are
 # longer: docs/services.md).
-export GDAL_HTTP_TIMEOUT=2 GDAL_HTTP_CONNECTTIMEOUT=2 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
-export HV_FAULT_SLOW_S=5
+# The time-out leaves room for a loaded machine: mapserv runs as CGI, a process per request.
+export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
+export HV_FAULT_SLOW_S=12
 RUN_LIMIT=60                             # seconds any one histoview run may take
 
 passed=0
@@ -219,10 +220,10 @@ fault_check() {
   fi
 }
 cases=(
+  "wfs-slow buildings slow"
   "wfs-404 buildings 404"
   "wfs-500-data buildings 500-data"
   "wcs-503 terrain 503"
-  "wfs-slow buildings slow"
   "wfs-reset buildings reset"
   "wfs-truncated-data buildings truncated-data"
   "wfs-malformed-data buildings malformed-data"
@@ -230,7 +231,12 @@ cases=(
   "wcs-malformed-data terrain malformed-data"
   "wcs-truncated-data terrain truncated-data"
 )
-for c in "${cases[@]}"; do fault_start $c; done
+# Two at a time (the proxy is the third job): more slowed the stack itself past the time-out on
+# the shared 2-core machine.
+for c in "${cases[@]}"; do
+  while (($(jobs -rp | wc -l) >= 3)); do sleep 0.2; done
+  fault_start $c
+done
 wait_start=$SECONDS
 for c in "${cases[@]}"; do
   read -r name _ <<<"$c"
@@ -250,7 +256,7 @@ print("  tries per request:", max(n.values()) if n else 0)
 sys.exit(0 if n and 2 <= max(n.values()) <= 3 else 1)
 PY
 read -r _ slow_secs <"$DIR/fault-wfs-slow.status"
-check "slow: given up within the time-outs and their retries (${slow_secs}s)" test "$slow_secs" -le 20
+check "slow: given up within the time-outs and their retries (${slow_secs}s)" test "$slow_secs" -le 40
 
 echo "$passed passed, $failed failed"
 ((failed == 0))

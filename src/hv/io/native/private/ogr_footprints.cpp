@@ -298,6 +298,7 @@ struct LayerGrid {
   glm::dvec2 origin{0.0};
   double size = 1.0;
   int nx = 1, ny = 1;
+  bool extentKnown = false;  // false: one tile of unknown bounds (the layer gave no extent)
   int cellOf(glm::dvec2 p) const {
     const double fx = (p.x - origin.x) / size, fy = (p.y - origin.y) / size;
     const int ix = std::isfinite(fx) ? int(std::clamp(std::floor(fx), 0.0, double(nx - 1))) : 0;
@@ -308,9 +309,9 @@ struct LayerGrid {
   glm::dvec2 hi(int cell) const { return lo(cell) + glm::dvec2(size); }
 };
 
-// The extent is forced, for services too: OGR's WFS driver then reads the layer once, but without
-// forcing, the tiles it gave over MapServer's WFS missed every footprint (services test;
-// docs/services.md, "What OGR asks").
+// The extent is forced, for services too: OGR's WFS driver knows none from MapServer's
+// capabilities and then reads the layer once, by pages, to find it (docs/services.md, "What OGR
+// asks"); unforced, the layer would be a single tile of unknown bounds.
 LayerGrid layerGrid(OGRLayer* layer, const FootprintTileOptions& options) {
   LayerGrid g;
   OGREnvelope e;
@@ -327,6 +328,7 @@ LayerGrid layerGrid(OGRLayer* layer, const FootprintTileOptions& options) {
   size = std::max({size, w / 256.0, h / 256.0, 1e-9 * std::max({std::abs(e.MinX), std::abs(e.MinY), 1.0})});
   g.origin = {e.MinX, e.MinY};
   g.size = size;
+  g.extentKnown = true;
   g.nx = std::clamp(int(std::ceil(w / size)), 1, 256);
   g.ny = std::clamp(int(std::ceil(h / size)), 1, 256);
   return g;
@@ -460,7 +462,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
           // OGR hands WFS and OAPIF layers over in longitude, latitude order.
           x0 = std::max(x0, -180.0), x1 = std::min(x1, 180.0), y0 = std::max(y0, -90.0), y1 = std::min(y1, 90.0);
         }
-        layer->SetSpatialFilterRect(x0, y0, x1, y1);
+        if (grid.extentKnown || !server) layer->SetSpatialFilterRect(x0, y0, x1, y1);
         CPLErrorReset();
         layer->ResetReading();
         std::vector<Footprint> footprints;
