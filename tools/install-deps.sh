@@ -20,6 +20,9 @@ packages=(
   glslang-tools                                         # glslangValidator: the shaders checked as GLSL ES 3.00
   python3                                               # the CLI, viewer and browser tests' helpers
   libzip-dev                                            # OpenRaster (.ora) files of histoview layers: zip archives
+  lighttpd                                              # tools/services.sh: the HTTP front of the local OGC stack (127.0.0.1)
+  cgi-mapserver                                         # ... mapserv: WCS/WMS for the DTM, WFS + OGC API Features for footprints
+  mapserver-bin                                         # ... map2img, to check the generated mapfile by hand (docs/services.md)
 )
 
 missing=()

@@ -1,6 +1,7 @@
 #include "hv/util/input_file.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -23,18 +24,64 @@ std::string notRegularFileReason(const std::string& path) {
     return "cannot be examined: " + ec.message();
   }
   switch (st.type()) {
-    case fs::file_type::regular: return "";
-    case fs::file_type::not_found: return "file not found";
-    case fs::file_type::directory: return "a directory, not a file";
-    case fs::file_type::fifo: return "a FIFO (named pipe), not a regular file";
-    case fs::file_type::socket: return "a socket, not a regular file";
+    case fs::file_type::regular:
+      return "";
+    case fs::file_type::not_found:
+      return "file not found";
+    case fs::file_type::directory:
+      return "a directory, not a file";
+    case fs::file_type::fifo:
+      return "a FIFO (named pipe), not a regular file";
+    case fs::file_type::socket:
+      return "a socket, not a regular file";
     case fs::file_type::character:
-    case fs::file_type::block: return "a device, not a regular file";
-    default: return "not a regular file";
+    case fs::file_type::block:
+      return "a device, not a regular file";
+    default:
+      return "not a regular file";
   }
 }
 
 bool isRegularFile(const std::string& path) { return notRegularFileReason(path).empty(); }
+
+bool isConnectionString(const std::string& path) {
+  if (path.find('\0') != std::string::npos) return false;
+  if (path.rfind("/vsi", 0) == 0) return true;
+  const std::size_t colon = path.find(':');
+  if (colon == std::string::npos || colon < 2) return false;
+  if (!std::isalpha(static_cast<unsigned char>(path[0]))) return false;
+  for (std::size_t i = 1; i < colon; ++i) {
+    const unsigned char c = static_cast<unsigned char>(path[i]);
+    // A URL scheme may hold '+', '-' and '.' ("svn+ssh"); GDAL's prefixes are letters, digits, '_'.
+    if (!std::isalnum(c) && c != '_' && c != '+' && c != '-' && c != '.') return false;
+  }
+  return true;
+}
+
+namespace {
+
+bool existsLocally(const fs::path& p) {
+  std::error_code ec;
+  // symlink_status: a dangling link is there too (and refused by the reader, naming it).
+  return fs::symlink_status(p, ec).type() != fs::file_type::not_found && !ec;
+}
+
+std::atomic<RemoteReader> gRemoteReader{nullptr};
+
+}  // namespace
+
+std::string resolveSourcePath(const std::string& path, const std::string& dir) {
+  if (path.empty() || path.find('\0') != std::string::npos) return path;
+  const fs::path p = path;
+  const std::string local = (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+  if (existsLocally(local)) return local;
+  if (isConnectionString(path)) return path;
+  return local;
+}
+
+bool isRemoteSource(const std::string& path) { return isConnectionString(path) && !existsLocally(path); }
+
+void setRemoteReader(RemoteReader reader) { gRemoteReader.store(reader); }
 
 namespace {
 
@@ -69,6 +116,13 @@ namespace {
 // Reads at most `maxBytes` + 1 bytes: a file that grew since it was examined is still refused.
 template <class Bytes>
 Bytes readCapped(const std::string& path, std::uint64_t maxBytes, const std::string& what) {
+  if (isRemoteSource(path)) {
+    const RemoteReader reader = gRemoteReader.load();
+    if (!reader)
+      throw InputError(inputMessage(path, what, "a URL or connection string, and this build reads local files only"));
+    const std::string text = reader(path, maxBytes, what);
+    return Bytes(text.begin(), text.end());
+  }
   const std::uint64_t size = requireRegularFile(path, what, maxBytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(inputMessage(path, what, "cannot open the file"));
@@ -77,15 +131,15 @@ Bytes readCapped(const std::string& path, std::uint64_t maxBytes, const std::str
     throw InputError(inputMessage(path, what, "read error (the file shrank or cannot be read)"));
   char extra;
   if (in.read(&extra, 1) && size + 1 > maxBytes)
-    throw InputError(inputMessage(path, what, "the file grew over the limit of " + sizeText(maxBytes) +
-                                                  " while it was read"));
+    throw InputError(
+        inputMessage(path, what, "the file grew over the limit of " + sizeText(maxBytes) + " while it was read"));
   if (in.gcount() == 1) {  // grew but still under the cap: read the rest, capped
     bytes.push_back(static_cast<typename Bytes::value_type>(extra));
     char buf[1 << 16];
     while (in.read(buf, sizeof buf) || in.gcount() > 0) {
       if (bytes.size() + std::uint64_t(in.gcount()) > maxBytes)
-        throw InputError(inputMessage(path, what, "the file grew over the limit of " + sizeText(maxBytes) +
-                                                      " while it was read"));
+        throw InputError(
+            inputMessage(path, what, "the file grew over the limit of " + sizeText(maxBytes) + " while it was read"));
       bytes.insert(bytes.end(), buf, buf + in.gcount());
     }
   }

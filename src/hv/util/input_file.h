@@ -13,8 +13,8 @@ namespace hv {
 
 // Caps on what the readers take in (docs/formats.md, "Limits"): a file over its cap is refused,
 // naming the file and its size, before anything is allocated for it.
-constexpr std::uint64_t kMaxJsonBytes = std::uint64_t(256) << 20;  // scene.json, cameras, --views, iTowns
-constexpr std::uint64_t kMaxTextBytes = std::uint64_t(256) << 20;  // COLMAP text, MicMac XML
+constexpr std::uint64_t kMaxJsonBytes = std::uint64_t(256) << 20;   // scene.json, cameras, --views, iTowns
+constexpr std::uint64_t kMaxTextBytes = std::uint64_t(256) << 20;   // COLMAP text, MicMac XML
 constexpr std::uint64_t kMaxBinaryBytes = std::uint64_t(16) << 30;  // LAS, PLY point clouds read whole
 
 // Why `path` cannot be read as a regular file, or "" when it can: not found, a directory, a FIFO,
@@ -26,8 +26,30 @@ bool isRegularFile(const std::string& path);
 
 // Throws InputError "<path>: <what>: <reason>" unless `path` is a regular file of at most
 // `maxBytes`; returns its size. `what` names what the file is for ("cameras file", "terrain").
-std::uint64_t requireRegularFile(const std::string& path, const std::string& what,
-                                 std::uint64_t maxBytes = UINT64_MAX);
+std::uint64_t requireRegularFile(const std::string& path, const std::string& what, std::uint64_t maxBytes = UINT64_MAX);
+
+// Sources that are not local files (docs/services.md, "Paths"). A GDAL user names a service the
+// way GDAL does: "WFS:http://...", "WCS:http://...", "OAPIF:http://...", "PG:...", "/vsicurl/...",
+// "http(s)://...". True when `path` has that form: GDAL's virtual-file prefix "/vsi", a URL scheme
+// ("name://"), or a driver prefix of two or more letters, digits or '_' before a ':' ("C:" is a
+// drive letter, not a driver). Looks at the string only.
+bool isConnectionString(const std::string& path);
+
+// The path a scene.json source names, as the readers take it: a path that exists locally (relative
+// ones against `dir`, scene.json's folder) is that local path, whatever it looks like; else a
+// connection string is handed on as it is; else the local path (whose reader then says "file not
+// found").
+std::string resolveSourcePath(const std::string& path, const std::string& dir);
+
+// True when `path` is a connection string that names no local file: what GDAL opens, or what the
+// remote reader below fetches.
+bool isRemoteSource(const std::string& path);
+
+// Reads a remote source whole (`what` and the cap as for readTextFile), throwing InputError naming
+// the URL. The native io module installs one (hv/io/native/remote.h, through GDAL's HTTP client);
+// without one, readTextFile and readFileBytes refuse a remote source.
+using RemoteReader = std::string (*)(const std::string& path, std::uint64_t maxBytes, const std::string& what);
+void setRemoteReader(RemoteReader reader);
 
 // The whole of a text input, refused (InputError naming the file, what it is for and the size)
 // when it is not a regular file or is larger than `maxBytes`.

@@ -14,9 +14,9 @@
 namespace hv {
 
 struct FootprintFields {
-  std::string height = "height";       // attribute: height in metres above the base
-  std::optional<std::string> base;     // attribute: absolute base elevation
-  std::optional<std::string> top;      // attribute: absolute roof elevation
+  std::string height = "height";    // attribute: height in metres above the base
+  std::optional<std::string> base;  // attribute: absolute base elevation
+  std::optional<std::string> top;   // attribute: absolute roof elevation
   std::optional<std::string> validFrom, validTo;
 };
 
@@ -71,12 +71,13 @@ struct FootprintTile {
 
 struct FootprintTileSource {
   std::string path;
-  std::string sourceCrs;       // as GeoreferencedFootprints::sourceCrs
-  std::size_t tilesTotal = 0;  // over every layer
-  std::size_t tilesRead = 0;   // the wanted ones
-  bool spatialFilter = true;   // every layer read through OGR's spatial filter
-  double tileSize = 0.0;       // the first layer's, in its units
-  std::string note;            // why a layer was read whole and indexed in memory; empty: none
+  std::string sourceCrs;        // as GeoreferencedFootprints::sourceCrs
+  std::size_t tilesTotal = 0;   // over every layer
+  std::size_t tilesRead = 0;    // the wanted ones
+  std::size_t tilesFailed = 0;  // wanted ones whose reading failed part-way (a service error): reported
+  bool spatialFilter = true;    // every layer read through OGR's spatial filter
+  double tileSize = 0.0;        // the first layer's, in its units
+  std::string note;             // why a layer was read whole and indexed in memory; empty: none
 };
 
 // Reads the wanted tiles, calling `consume` once per tile that holds footprints (so the caller

@@ -3,26 +3,27 @@
 #include "hv/io/colour_corrections_json.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/json_input.h"
 #include "hv/io/native/cityjson.h"
 #include "hv/io/native/colmap_cameras.h"
 #include "hv/io/native/footprints.h"
-#include "hv/scene/point_normals.h"
 #include "hv/io/native/georef.h"
 #include "hv/io/native/itowns_cameras.h"
-#include "hv/io/json_input.h"
 #include "hv/io/native/las_reader.h"
 #include "hv/io/native/mesh_reader.h"
 #include "hv/io/native/micmac_cameras.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
+#include "hv/io/native/remote.h"
 #include "hv/io/native/terrain_raster.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
+#include "hv/scene/point_normals.h"
 #include "hv/scene/robust_extent.h"
 #include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
-#include "hv/util/log.h"
 #include "hv/util/input_file.h"
+#include "hv/util/log.h"
 
 #include <nlohmann/json.hpp>
 
@@ -45,8 +46,9 @@ std::string sourcePath(const json& doc, const char* key, const std::string& dir,
   const json& s = doc.at(key);
   if (!s.is_object() || !s.contains("path") || !s["path"].is_string())
     throw InputError(file + ": " + key + ".path: expected a string path");
-  fs::path p = s["path"].get<std::string>();
-  return (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+  // A local path (relative to scene.json's folder), else a GDAL connection string or URL handed on
+  // as it is (docs/services.md, "Paths").
+  return resolveSourcePath(s["path"].get<std::string>(), dir);
 }
 
 std::optional<std::string> optionalString(const json& obj, const char* key, const std::string& where) {
@@ -72,7 +74,8 @@ void estimatePointNormals(PointCloud& cloud, const json& entry, const std::strin
     const auto t0 = std::chrono::steady_clock::now();
     estimateNormals(cloud);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    log::debug("points: normals estimated for " + std::to_string(cloud.size()) + " points in " + std::to_string(s) + " s");
+    log::debug("points: normals estimated for " + std::to_string(cloud.size()) + " points in " + std::to_string(s) +
+               " s");
   }
 }
 
@@ -229,7 +232,8 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
   if (bad.empty()) return;
   std::string list;
   for (const std::string& b : bad) list += (list.empty() ? "" : "; ") + b;
-  throw InputError(path + ": " + list + " (this version reads only the keys of docs/formats.md; the scene is not loaded)");
+  throw InputError(path + ": " + list +
+                   " (this version reads only the keys of docs/formats.md; the scene is not loaded)");
 }
 
 // The buildings' base heights on a DTM read as tiles: the finest level within
@@ -472,6 +476,7 @@ void makeGroundPlane(Scene& scene, double height, const std::string& path, Diagn
 }  // namespace
 
 Scene loadScene(const std::string& path, Diagnostics& diag) {
+  enableRemoteReading();
   const json doc = readJsonInput(path, "scene", diag);
   if (!doc.is_object()) throw InputError(path + ": expected a JSON object");
   refuseUnknownKeys(doc, path);
@@ -635,13 +640,13 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       const json& c = doc["cameras"];
       if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
       if (c.contains("format") && !c["format"].is_string())
-        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
+        throw InputError(path +
+                         ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
       const std::string format = c.value("format", "native");
       auto file = [&](const char* key) {
         if (!c.contains(key) || !c[key].is_string())
           throw InputError(path + ": cameras." + key + ": expected a path string");
-        const fs::path p = c[key].get<std::string>();
-        return (p.is_absolute() ? p : fs::path(dir) / p).lexically_normal().string();
+        return resolveSourcePath(c[key].get<std::string>(), dir);
       };
       if (format == "native") {
         scene.photos = readCameraFile(sourcePath(doc, "cameras", dir, path), CameraFileOptions{}, diag);
@@ -664,7 +669,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
       if (c.contains("crs") && !c["crs"].is_string())
         throw InputError(path + ": cameras.crs: expected a CRS string (\"EPSG:4978\", WKT, a PROJ string)");
-      const std::string cameraCrs = c.contains("crs") ? c["crs"].get<std::string>()
+      const std::string cameraCrs = c.contains("crs")    ? c["crs"].get<std::string>()
                                     : format == "micmac" ? std::string("EPSG:4978")
                                                          : std::string();
       if (!cameraCrs.empty()) {

@@ -5,9 +5,9 @@
 #include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -35,9 +35,21 @@ bool readAsPly(const std::string& path) {
   return false;
 }
 
-}  // namespace
+// A mesh at a URL (docs/services.md): fetched whole, then read from memory with the extension of
+// the URL's path as Assimp's format hint.
+const aiScene* readRemoteMesh(Assimp::Importer& importer, const std::string& path, unsigned flags,
+                              std::vector<std::uint8_t>& bytes) {
+  bytes = readFileBytes(path);
+  const std::string name = path.substr(0, path.find_first_of("?#"));
+  std::string hint = std::filesystem::path(name).extension().string();
+  if (!hint.empty()) hint.erase(0, 1);
+  std::string head(bytes.begin(), bytes.begin() + std::ptrdiff_t(std::min<std::size_t>(bytes.size(), 200)));
+  for (char& c : head) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (hint == "ply" || head.rfind("ply", 0) == 0) validatePly(bytes.data(), bytes.size(), path);
+  return importer.ReadFileFromMemory(bytes.data(), bytes.size(), flags, hint.c_str());
+}
 
-Mesh readMesh(const std::string& path) {
+const aiScene* readLocalMesh(Assimp::Importer& importer, const std::string& path, unsigned flags) {
   requireRegularFile(path, "mesh");
   // Assimp 5.2's PLY loader loops forever on some malformed headers and leaks on others (found by
   // fuzz_mesh, docs/testing.md): what Assimp would read as PLY is first read by histoview's own PLY parser
@@ -48,13 +60,22 @@ Mesh readMesh(const std::string& path) {
     const std::vector<std::uint8_t> bytes = readFileBytes(path);
     validatePly(bytes.data(), bytes.size(), path);
   }
-  Assimp::Importer importer;
+  return importer.ReadFile(path, flags);
+}
+
+}  // namespace
+
+Mesh readMesh(const std::string& path) {
   // Validate first (a face index past the vertices would otherwise be followed by the steps after
   // it: a crash in JoinIdenticalVertices, or a read past the array), then triangulate polygons,
   // merge duplicate vertices, drop points and lines; keep the file's frame (no
   // aiProcess_PreTransformVertices: node transforms are applied below, in double).
-  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                                                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  constexpr unsigned kFlags =
+      aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
+  Assimp::Importer importer;
+  std::vector<std::uint8_t> remoteBytes;
+  const aiScene* scene = isRemoteSource(path) ? readRemoteMesh(importer, path, kFlags, remoteBytes)
+                                              : readLocalMesh(importer, path, kFlags);
   if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     throw InputError(path + ": cannot read mesh (expected PLY, OBJ, glTF or another format Assimp reads): " +
                      importer.GetErrorString());

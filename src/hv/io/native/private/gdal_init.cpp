@@ -1,8 +1,10 @@
 #include "hv/io/native/private/gdal_init.h"
 
+#include <cpl_conv.h>
 #include <gdal.h>
 #include <ogr_spatialref.h>
 
+#include "hv/io/native/remote.h"
 #include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
 
@@ -14,11 +16,18 @@ namespace hv::gdal {
 
 void ensureRegistered() {
   static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
+  std::call_once(once, [] {
+    // What the user set (environment, --config) wins; CPLGetConfigOption reads the environment.
+    for (const HttpDefault& d : kHttpDefaults)
+      if (!CPLGetConfigOption(d.key, nullptr)) CPLSetConfigOption(d.key, d.value);
+    GDALAllRegister();
+  });
 }
 
 void requireOpenable(const std::string& path, const std::string& what, bool allowDirectory) {
-  if (path.rfind("/vsi", 0) == 0 && path.find('\0') == std::string::npos) return;
+  // GDAL's virtual paths and connection strings ("WFS:http://...", docs/services.md) are GDAL's to
+  // open; a local file of that name is checked like any other.
+  if (isRemoteSource(path)) return;
   if (allowDirectory) {
     std::error_code ec;
     if (path.find('\0') == std::string::npos && std::filesystem::is_directory(path, ec)) return;

@@ -15,7 +15,9 @@
 
 #include "hv/io/native/private/gdal_init.h"
 #include "hv/io/native/raster.h"
+#include "hv/io/native/remote.h"
 #include "hv/io/native/terrain_raster.h"
+#include "hv/util/input_file.h"
 #include "hv/util/log.h"
 
 namespace hv {
@@ -29,9 +31,25 @@ using DatasetPtr = std::unique_ptr<GDALDataset, DatasetCloser>;
 
 DatasetPtr openRaster(const std::string& path) {
   gdal::requireOpenable(path, "raster", false);
-  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  if (!ds)
-    throw InputError(inputMessage(path, "", "cannot open as a raster: " + gdal::lastError("unknown format")));
+  // GDAL's WCS driver keeps the service descriptions it fetched in a cache folder ($HOME/.gdal by
+  // default): histoview's (docs/services.md, "Cache") instead.
+  CPLStringList openOptions;
+  if (STARTS_WITH_CI(path.c_str(), "WCS:")) {
+    if (const std::string cache = cacheFolder(); !cache.empty())
+      openOptions.SetNameValue("CACHE", (cache + "/gdal-wcs").c_str());
+    // The WCS driver has a time-out of its own (30 s) and ignores GDAL_HTTP_TIMEOUT: given the same.
+    if (const char* timeout = CPLGetConfigOption("GDAL_HTTP_TIMEOUT", nullptr))
+      openOptions.SetNameValue("Timeout", timeout);
+  }
+  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, openOptions.List()));
+  if (!ds) {
+    // The WCS driver gives up on an error status (after its retries) without a message of its own.
+    const char* fallback = isRemoteSource(path)
+                               ? "the service answered with no raster and GDAL gave no reason (an HTTP "
+                                 "error status, after the retries?)"
+                               : "unknown format";
+    throw InputError(inputMessage(path, "", "cannot open as a raster: " + gdal::lastError(fallback)));
+  }
   if (ds->GetRasterCount() < 1) throw InputError(inputMessage(path, "", "has no raster band"));
   return ds;
 }
@@ -67,9 +85,9 @@ Heightfield readGrid(GDALDataset* ds, const std::string& path, Diagnostics* diag
     throw InputError(inputMessage(path, "size", size + " cells: expected at least 2 x 2 to make a terrain"));
   const int step = decimationFor(std::uint64_t(sourceCols), std::uint64_t(sourceRows));
   if (step == 0)
-    throw InputError(inputMessage(path, "size", size + " cells: too large to read even decimated (the limit is " +
-                                                    std::to_string(kMaxRasterCells) +
-                                                    " cells, docs/formats.md, Limits)"));
+    throw InputError(inputMessage(path, "size",
+                                  size + " cells: too large to read even decimated (the limit is " +
+                                      std::to_string(kMaxRasterCells) + " cells, docs/formats.md, Limits)"));
   Heightfield field;
   field.cols = (sourceCols + step - 1) / step;
   field.rows = (sourceRows + step - 1) / step;
@@ -89,8 +107,8 @@ Heightfield readGrid(GDALDataset* ds, const std::string& path, Diagnostics* diag
   field.z.resize(size_t(field.cols) * field.rows);
   // A smaller buffer than the window: GDAL decimates (nearest sample), from an overview when the
   // file has one.
-  if (band->RasterIO(GF_Read, 0, 0, sourceCols, sourceRows, field.z.data(), field.cols, field.rows, GDT_Float32, 0,
-                     0, nullptr) != CE_None)
+  if (band->RasterIO(GF_Read, 0, 0, sourceCols, sourceRows, field.z.data(), field.cols, field.rows, GDT_Float32, 0, 0,
+                     nullptr) != CE_None)
     throw InputError(inputMessage(path, "band 1", "read failed: " + gdal::lastError("I/O error")));
 
   int hasNoData = 0;
@@ -136,9 +154,10 @@ double bandUnitToMetre(GDALDataset* ds, const std::string& path, Diagnostics& di
   if (!unit || !*unit) return 0.0;
   const double toMetre = unitToMetre(unit);
   if (toMetre == 0.0)
-    diag.warn(inputMessage(path, "band 1 unit", std::string("'") + unit +
-                                                    "' not recognised (expected m, ft or US survey foot): heights "
-                                                    "taken in the CRS's height unit"));
+    diag.warn(inputMessage(path, "band 1 unit",
+                           std::string("'") + unit +
+                               "' not recognised (expected m, ft or US survey foot): heights "
+                               "taken in the CRS's height unit"));
   return toMetre;
 }
 
@@ -311,9 +330,8 @@ GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGe
 void writeGeoTiff(const std::string& path, const Heightfield& field, const std::string& crs,
                   const std::string& heightUnit) {
   if (field.cols <= 0 || field.rows <= 0 || field.z.size() != size_t(field.cols) * field.rows)
-    throw std::invalid_argument("writeGeoTiff: heightfield has " + std::to_string(field.z.size()) +
-                                " samples for " + std::to_string(field.cols) + " x " +
-                                std::to_string(field.rows));
+    throw std::invalid_argument("writeGeoTiff: heightfield has " + std::to_string(field.z.size()) + " samples for " +
+                                std::to_string(field.cols) + " x " + std::to_string(field.rows));
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
@@ -322,8 +340,7 @@ void writeGeoTiff(const std::string& path, const Heightfield& field, const std::
   OGRSpatialReference srs;
   if (!crs.empty()) {
     if (srs.SetFromUserInput(crs.c_str()) != OGRERR_NONE)
-      throw InputError(
-          inputMessage(path, "crs", "cannot interpret '" + crs + "': " + gdal::lastError("unknown CRS")));
+      throw InputError(inputMessage(path, "crs", "cannot interpret '" + crs + "': " + gdal::lastError("unknown CRS")));
     srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   }
 
@@ -332,8 +349,7 @@ void writeGeoTiff(const std::string& path, const Heightfield& field, const std::
   options = CSLSetNameValue(options, "PREDICTOR", "3");  // floating-point predictor: DTMs compress well
   DatasetPtr ds(driver->Create(path.c_str(), field.cols, field.rows, 1, GDT_Float32, options));
   CSLDestroy(options);
-  if (!ds)
-    throw InputError(inputMessage(path, "", "cannot create: " + gdal::lastError("GTiff driver refused")));
+  if (!ds) throw InputError(inputMessage(path, "", "cannot create: " + gdal::lastError("GTiff driver refused")));
 
   double gt[6] = {field.originX, field.cellX, 0.0, field.originY, 0.0, field.cellY};
   ds->SetGeoTransform(gt);
@@ -347,8 +363,8 @@ void writeGeoTiff(const std::string& path, const Heightfield& field, const std::
     }
   // RasterIO takes a non-const buffer even for writing.
   std::vector<float> samples = field.z;
-  if (band->RasterIO(GF_Write, 0, 0, field.cols, field.rows, samples.data(), field.cols, field.rows,
-                     GDT_Float32, 0, 0, nullptr) != CE_None)
+  if (band->RasterIO(GF_Write, 0, 0, field.cols, field.rows, samples.data(), field.cols, field.rows, GDT_Float32, 0, 0,
+                     nullptr) != CE_None)
     throw InputError(inputMessage(path, "", "write failed: " + gdal::lastError("I/O error")));
   ds->FlushCache(true);
   if (CPLGetLastErrorType() >= CE_Failure)

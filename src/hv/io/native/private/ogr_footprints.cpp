@@ -298,6 +298,7 @@ struct LayerGrid {
   glm::dvec2 origin{0.0};
   double size = 1.0;
   int nx = 1, ny = 1;
+  bool extentKnown = false;  // false: one tile of unknown bounds (the layer gave no extent)
   int cellOf(glm::dvec2 p) const {
     const double fx = (p.x - origin.x) / size, fy = (p.y - origin.y) / size;
     const int ix = std::isfinite(fx) ? int(std::clamp(std::floor(fx), 0.0, double(nx - 1))) : 0;
@@ -308,6 +309,9 @@ struct LayerGrid {
   glm::dvec2 hi(int cell) const { return lo(cell) + glm::dvec2(size); }
 };
 
+// The extent is forced, for services too: OGR's WFS driver knows none from MapServer's
+// capabilities and then reads the layer once, by pages, to find it (docs/services.md, "What OGR
+// asks"); unforced, the layer would be a single tile of unknown bounds.
 LayerGrid layerGrid(OGRLayer* layer, const FootprintTileOptions& options) {
   LayerGrid g;
   OGREnvelope e;
@@ -324,6 +328,7 @@ LayerGrid layerGrid(OGRLayer* layer, const FootprintTileOptions& options) {
   size = std::max({size, w / 256.0, h / 256.0, 1e-9 * std::max({std::abs(e.MinX), std::abs(e.MinY), 1.0})});
   g.origin = {e.MinX, e.MinY};
   g.size = size;
+  g.extentKnown = true;
   g.nx = std::clamp(int(std::ceil(w / size)), 1, 256);
   g.ny = std::clamp(int(std::ceil(h / size)), 1, 256);
   return g;
@@ -362,8 +367,7 @@ GeoreferencedFootprints readFootprints(const std::string& path, const FootprintF
   gdal::requireOpenable(path, "footprints", true);
   DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   if (!ds)
-    throw InputError(
-        inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
+    throw InputError(inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
 
   GeoreferencedFootprints result;
   std::vector<Footprint>& out = result.footprints;
@@ -393,11 +397,24 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
 
   FootprintTileSource source;
   source.path = path;
+  const std::string driver = ds->GetDriverName() ? ds->GetDriverName() : "";
+  const bool server = driver == "WFS" || driver == "OAPIF";
   const int layerCount = ds->GetLayerCount();
+  // A WFS whose TYPENAME names no feature type opens with no layer: said, not an empty city.
+  if (layerCount == 0)
+    throw InputError(inputMessage(path, "",
+                                  std::string("no layer in this ") + ds->GetDriverName() +
+                                      " source (a WFS TYPENAME or an OGC API collection that the "
+                                      "service does not offer? MapServer prefixes its type names: ms:...)"));
   for (int l = 0; l < layerCount; ++l) {
     OGRLayer* layer = ds->GetLayer(l);
+    CPLErrorReset();
     const LayerFrame frame = layerFrame(layer, layerCount, georef, path, source.sourceCrs, diag);
     const LayerGrid grid = layerGrid(layer, options);
+    // A service that fails on its first requests (the schema, the count) gives an empty layer
+    // from then on: the failure is the message, not an empty city.
+    if (server && CPLGetLastErrorType() >= CE_Failure)
+      throw InputError(inputMessage(path, frame.prefix, "the service failed: " + gdal::lastError("I/O error")));
     if (l == 0) source.tileSize = grid.size;
     const int cells = grid.nx * grid.ny;
     source.tilesTotal += std::size_t(cells);
@@ -420,7 +437,10 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
       tile.footprints.clear();
     };
 
-    const bool fast = layer->TestCapability(OLCFastSpatialFilter) != 0;
+    // A WFS or OGC API - Features layer says it has no fast spatial filter, yet the server does
+    // the filtering: each tile is one request with its bounding box (BBOX=, bbox=), paged
+    // (STARTINDEX/COUNT, the "next" links), which is what reading by tile is for (docs/services.md).
+    const bool fast = server || layer->TestCapability(OLCFastSpatialFilter) != 0;
     if (fast) {
       // Each wanted tile through the layer's spatial index. The rectangle is padded so that a
       // first vertex on a tile border is always returned to its owner, and the border tiles
@@ -431,11 +451,19 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
       for (int c = 0; c < cells; ++c) {
         if (!wanted[std::size_t(c)]) continue;
         const int ix = c % grid.nx, iy = c / grid.nx;
-        const double far = 1e6 * grid.size * std::max(grid.nx, grid.ny);
+        // A server is asked for a box of sensible coordinates (one extent further, and within the
+        // world for longitudes and latitudes), a local index for everything.
+        const double far = (server ? 1.0 : 1e6) * grid.size * std::max(grid.nx, grid.ny);
         const glm::dvec2 lo = grid.lo(c), hi = grid.hi(c);
-        layer->SetSpatialFilterRect(ix == 0 ? lo.x - far : lo.x - pad, iy == 0 ? lo.y - far : lo.y - pad,
-                                    ix == grid.nx - 1 ? hi.x + far : hi.x + pad,
-                                    iy == grid.ny - 1 ? hi.y + far : hi.y + pad);
+        double x0 = ix == 0 ? lo.x - far : lo.x - pad, y0 = iy == 0 ? lo.y - far : lo.y - pad;
+        double x1 = ix == grid.nx - 1 ? hi.x + far : hi.x + pad, y1 = iy == grid.ny - 1 ? hi.y + far : hi.y + pad;
+        const OGRSpatialReference* srs = layer->GetSpatialRef();
+        if (server && srs && srs->IsGeographic()) {
+          // OGR hands WFS and OAPIF layers over in longitude, latitude order.
+          x0 = std::max(x0, -180.0), x1 = std::min(x1, 180.0), y0 = std::max(y0, -90.0), y1 = std::min(y1, 90.0);
+        }
+        if (grid.extentKnown || !server) layer->SetSpatialFilterRect(x0, y0, x1, y1);
+        CPLErrorReset();
         layer->ResetReading();
         std::vector<Footprint> footprints;
         for (auto& feature : *layer) {
@@ -443,6 +471,14 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
           if (v ? grid.cellOf(*v) != c : !seenWithoutVertex.insert(feature->GetFID()).second) continue;
           ++owned;
           readFeature(*feature, frame.prefix + std::to_string(feature->GetFID()), fields, path, footprints, diag);
+        }
+        // A service that fails mid-way (a WFS page answered 500, a truncated response) ends the
+        // iteration as if the layer had no more features: said, not silent.
+        if (CPLGetLastErrorType() >= CE_Failure) {
+          ++source.tilesFailed;
+          diag.error(inputMessage(path, frame.prefix + "tile " + std::to_string(ix) + "," + std::to_string(iy),
+                                  "read failed after " + std::to_string(footprints.size()) + " footprint(s): " +
+                                      gdal::lastError("I/O error") + " (the rest of the tile left out)"));
         }
         deliver(c, footprints);
       }
@@ -463,13 +499,22 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
                       "read once and indexed in memory";
       std::vector<std::vector<Footprint>> byCell(static_cast<std::size_t>(cells));
       std::vector<Footprint> unplaced;  // features without a polygon: only their warnings
+      CPLErrorReset();
       layer->ResetReading();
+      std::size_t readCount = 0;
       for (auto& feature : *layer) {
+        ++readCount;
         const std::optional<glm::dvec2> v = firstVertex(feature->GetGeometryRef());
         const int c = v ? grid.cellOf(*v) : -1;
         if (c >= 0 && !wanted[std::size_t(c)]) continue;
         readFeature(*feature, frame.prefix + std::to_string(feature->GetFID()), fields, path,
                     c >= 0 ? byCell[std::size_t(c)] : unplaced, diag);
+      }
+      if (CPLGetLastErrorType() >= CE_Failure) {
+        ++source.tilesFailed;
+        diag.error(inputMessage(path, frame.prefix + "features",
+                                "read failed after " + std::to_string(readCount) +
+                                    " feature(s): " + gdal::lastError("I/O error") + " (the rest left out)"));
       }
       for (int c = 0; c < cells; ++c) deliver(c, byCell[std::size_t(c)]);
     }

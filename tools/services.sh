@@ -1,0 +1,259 @@
+#!/usr/bin/env bash
+# A local stack of OGC services over a demo city folder, on loopback only (docs/services.md).
+#
+#   tools/services.sh up DIR [PORT]     start serving DIR (default port: a free one); prints the URLs
+#   tools/services.sh down DIR          stop what `up DIR` started
+#   tools/services.sh status DIR        the state folder and whether lighttpd runs
+#
+# DIR is a folder written by `histoview demo` (dtm.tif; buildings.geojson or buildings.gpkg;
+# cameras.json). lighttpd listens on 127.0.0.1:PORT and runs MapServer's `mapserv` as a CGI
+# program with a mapfile generated for DIR:
+#   WCS 1.0 / 2.0 and WMS   the DTM, layer (coverage) "dtm"
+#   WFS 2.0                 the footprints, type name "buildings" (GML or GeoJSON)
+#   OGC API - Features      the footprints, collection "buildings"
+#   static files            DIR itself under /files/ (cameras.json, the photographs)
+# Every response carries Access-Control-Allow-Origin: *. Everything runs as the invoking user; the
+# configuration, logs and pidfile live in a private temporary folder (printed by `up`), never in DIR.
+set -euo pipefail
+
+usage() { sed -n '3,6p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+die() { echo "services.sh: $*" >&2; exit 1; }
+
+cmd=${1:-}
+[[ $cmd == up || $cmd == down || $cmd == status ]] || usage
+DIR=${2:-}
+[[ -n $DIR ]] || usage
+[[ -d $DIR ]] || die "$DIR: not a folder"
+DIR=$(cd "$DIR" && pwd -P)
+
+# One state folder per served folder and user, so that `down DIR` finds what `up DIR` started.
+key=$(printf '%s' "$DIR" | md5sum | cut -c1-12)
+STATE=${TMPDIR:-/tmp}/histoview-services-$(id -u)-$key
+
+lighttpd_pid() {
+  [[ -s $STATE/lighttpd.pid ]] || return 1
+  local pid
+  pid=$(cat "$STATE/lighttpd.pid")
+  [[ $pid =~ ^[0-9]+$ ]] && kill -0 "$pid" 2>/dev/null && echo "$pid"
+}
+
+stop() {
+  local pid
+  if pid=$(lighttpd_pid); then
+    kill "$pid" 2>/dev/null || true
+    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    if kill -0 "$pid" 2>/dev/null; then kill -9 "$pid" 2>/dev/null || true; fi
+    echo "stopped lighttpd ($pid) serving $DIR"
+  fi
+  rm -f "$STATE/lighttpd.pid"
+}
+
+case $cmd in
+  down)
+    if [[ -d $STATE ]]; then stop; rm -rf "$STATE"; else echo "nothing runs for $DIR"; fi
+    exit 0
+    ;;
+  status)
+    if pid=$(lighttpd_pid); then echo "running: lighttpd $pid, $(cat "$STATE/url"), state $STATE"
+    else echo "not running ($DIR)"; exit 1; fi
+    exit 0
+    ;;
+esac
+
+# --- up
+for tool in lighttpd python3; do
+  command -v "$tool" >/dev/null || die "$tool not found (tools/install-deps.sh installs it)"
+done
+MAPSERV=${HV_MAPSERV:-/usr/lib/cgi-bin/mapserv}
+[[ -x $MAPSERV ]] || die "$MAPSERV not found (package cgi-mapserver; tools/install-deps.sh installs it)"
+
+[[ -f $DIR/dtm.tif ]] || die "$DIR/dtm.tif: not found (expected a folder written by histoview demo)"
+footprints=
+for f in buildings.gpkg buildings.geojson; do [[ -f $DIR/$f ]] && footprints=$DIR/$f && break; done
+[[ -n $footprints ]] || die "$DIR: neither buildings.gpkg nor buildings.geojson found"
+
+if lighttpd_pid >/dev/null; then die "already serving $DIR: $(cat "$STATE/url") (tools/services.sh down $DIR)"; fi
+
+PORT=${3:-}
+if [[ -z $PORT ]]; then
+  PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+fi
+[[ $PORT =~ ^[0-9]+$ ]] && ((PORT > 0 && PORT < 65536)) || die "port: expected a number in 1..65535, got '$PORT'"
+
+rm -rf "$STATE"
+mkdir -m 700 "$STATE"
+URL=http://127.0.0.1:$PORT
+
+# The DTM's grid and no-data value, for the WCS metadata: read from the GeoTIFF's tags
+# (ModelPixelScale, ModelTiepoint, GDAL_NODATA) by a few lines of Python, so no GDAL tool is needed.
+read -r cols rows minx miny maxx maxy resx resy nodata < <(python3 - "$DIR/dtm.tif" <<'PY'
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+order = {b"II": "<", b"MM": ">"}[data[:2]]
+magic = struct.unpack(order + "H", data[2:4])[0]
+big = magic == 43
+if big:
+    ifd = struct.unpack(order + "Q", data[8:16])[0]
+    count = struct.unpack(order + "Q", data[ifd:ifd + 8])[0]; at = ifd + 8; size = 20
+else:
+    ifd = struct.unpack(order + "I", data[4:8])[0]
+    count = struct.unpack(order + "H", data[ifd:ifd + 2])[0]; at = ifd + 2; size = 12
+kinds = {1: "B", 2: "s", 3: "H", 4: "I", 12: "d", 16: "Q"}
+tags = {}
+for i in range(count):
+    e = data[at + i * size: at + (i + 1) * size]
+    tag, kind = struct.unpack(order + "HH", e[:4])
+    n = struct.unpack(order + ("Q" if big else "I"), e[4:12] if big else e[4:8])[0]
+    fmt = kinds.get(kind)
+    if fmt is None: continue
+    nbytes = struct.calcsize(fmt) * n
+    inline = e[12:20] if big else e[8:12]
+    raw = inline[:nbytes] if nbytes <= len(inline) else data[struct.unpack(order + ("Q" if big else "I"), inline)[0]:][:nbytes]
+    tags[tag] = raw.rstrip(b"\0").decode() if fmt == "s" else struct.unpack(order + fmt * n, raw)
+w, h = tags[256][0], tags[257][0]
+sx, sy = tags[33550][:2]
+tie = tags[33922]
+x0 = tie[3] - tie[0] * sx; y1 = tie[4] + tie[1] * sy
+print(w, h, x0, y1 - h * sy, x0 + w * sx, y1, sx, sy, tags.get(42113, "").strip() or "none")
+PY
+)
+[[ -n ${resy:-} ]] || die "$DIR/dtm.tif: cannot read its size and georeferencing"
+[[ $nodata == none ]] && nodata=
+
+cat >"$STATE/city.map" <<EOF
+MAP
+  NAME "city"
+  EXTENT $minx $miny $maxx $maxy
+  SIZE $cols $rows
+  UNITS METERS
+  PROJECTION "init=epsg:2154" END
+  OUTPUTFORMAT
+    NAME "GTiff32"
+    DRIVER "GDAL/GTiff"
+    MIMETYPE "image/tiff"
+    IMAGEMODE FLOAT32
+    EXTENSION "tif"
+  END
+  WEB
+    METADATA
+      "ows_title" "histoview demo city"
+      "ows_onlineresource" "$URL/mapserv?"
+      "ows_srs" "EPSG:2154 EPSG:4326"
+      "ows_enable_request" "*"
+      "oga_onlineresource" "$URL/mapserv/city/ogcapi"
+      "oga_html_template_directory" "/usr/share/mapserver/ogcapi/templates/html-plain/"
+      "wfs_getfeature_formatlist" "geojson"
+      "wfs_maxfeatures" "100000"
+    END
+  END
+  OUTPUTFORMAT
+    NAME "geojson"
+    DRIVER "OGR/GEOJSON"
+    MIMETYPE "application/json; subtype=geojson"
+    FORMATOPTION "STORAGE=stream"
+    FORMATOPTION "FORM=SIMPLE"
+    FORMATOPTION "LCO:COORDINATE_PRECISION=6"
+  END
+  LAYER
+    NAME "dtm"
+    TYPE RASTER
+    STATUS ON
+    DATA "$DIR/dtm.tif"
+    PROJECTION "init=epsg:2154" END
+    PROCESSING "RESAMPLE=NEAREST"
+    METADATA
+      "wcs_label" "dtm"
+      "wcs_rangeset_name" "elevation"
+      "wcs_rangeset_label" "elevation (m)"
+      "wcs_formats" "GTiff32"
+      "wcs_nativeformat" "GTiff32"
+      "wcs_bandcount" "1"
+      "wcs_imagemode" "FLOAT32"
+      "wcs_srs" "EPSG:2154"
+      "wcs_native_crs" "EPSG:2154"
+      "wcs_extent" "$minx $miny $maxx $maxy"
+      "wcs_resolution" "$resx $resy"
+      "wcs_size" "$cols $rows"
+      ${nodata:+\"wcs_rangeset_nullvalue\" \"$nodata\"}
+      "ows_enable_request" "*"
+    END
+  END
+  LAYER
+    NAME "buildings"
+    TYPE POLYGON
+    STATUS ON
+    CONNECTIONTYPE OGR
+    CONNECTION "$footprints"
+    PROJECTION "init=epsg:2154" END
+    TEMPLATE "void"
+    METADATA
+      "wfs_title" "buildings"
+      "wfs_srs" "EPSG:2154 EPSG:4326"
+      "wfs_extent" "$minx $miny $maxx $maxy"
+      "wfs_enable_request" "*"
+      "gml_include_items" "all"
+      "gml_types" "auto"
+      "gml_featureid" "id"
+      "oga_enable_request" "*"
+      "oga_geometry_precision" "9"
+      "ows_enable_request" "*"
+    END
+    CLASS STYLE COLOR 180 160 140 OUTLINECOLOR 60 60 60 END END
+  END
+END
+EOF
+
+cat >"$STATE/mapserver.conf" <<EOF
+CONFIG
+  ENV
+    MS_MAPFILE "$STATE/city.map"
+    MS_ERRORFILE "$STATE/mapserver.log"
+  END
+  MAPS
+    "city" "$STATE/city.map"
+  END
+END
+EOF
+
+cat >"$STATE/lighttpd.conf" <<EOF
+server.bind = "127.0.0.1"
+server.port = $PORT
+server.document-root = "$STATE/www"
+server.pid-file = "$STATE/lighttpd.pid"
+server.errorlog = "$STATE/error.log"
+server.modules = ("mod_alias", "mod_setenv", "mod_cgi", "mod_accesslog")
+accesslog.filename = "$STATE/access.log"
+server.max-worker = 0
+mimetype.assign = (".json" => "application/json", ".png" => "image/png", ".jpg" => "image/jpeg",
+                   ".tif" => "image/tiff", ".geojson" => "application/geo+json", "" => "application/octet-stream")
+alias.url = ("/mapserv" => "$MAPSERV", "/files/" => "$DIR/")
+\$HTTP["url"] =~ "^/mapserv" {
+  cgi.assign = ("" => "")
+  setenv.add-environment = ("MAPSERVER_CONFIG_FILE" => "$STATE/mapserver.conf")
+}
+setenv.add-response-header = ("Access-Control-Allow-Origin" => "*")
+EOF
+mkdir -p "$STATE/www"
+echo "$URL" >"$STATE/url"
+
+lighttpd -tt -f "$STATE/lighttpd.conf" >/dev/null || die "lighttpd refused $STATE/lighttpd.conf"
+lighttpd -f "$STATE/lighttpd.conf" || die "lighttpd did not start (port $PORT taken?); see $STATE/error.log"
+ok=0
+for _ in $(seq 50); do
+  if python3 - "$PORT" <<'PY' 2>/dev/null; then ok=1; break; fi
+import socket, sys
+socket.create_connection(("127.0.0.1", int(sys.argv[1])), timeout=0.2).close()
+PY
+  sleep 0.1
+done
+((ok)) || { stop; die "lighttpd does not answer on 127.0.0.1:$PORT; see $STATE/error.log"; }
+
+cat <<EOF
+serving $DIR on $URL (state: $STATE)
+  WCS terrain:    WCS:$URL/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm
+  WMS:            $URL/mapserv?map=city&SERVICE=WMS&REQUEST=GetCapabilities
+  WFS buildings:  WFS:$URL/mapserv?map=city&TYPENAME=ms:buildings
+  OGC API:        OAPIF:$URL/mapserv/city/ogcapi/collections/buildings
+  files:          $URL/files/cameras.json
+stop with: tools/services.sh down $DIR
+EOF
