@@ -19,6 +19,8 @@ packages=(
   xdotool                                               # ... and taps keys in it (key events, not polling)
   glslang-tools                                         # glslangValidator: the shaders checked as GLSL ES 3.00
   python3                                               # the CLI, viewer and browser tests' helpers
+  postgresql-15                                         # the camera catalog's tests: a private cluster (tools/catalog.sh)
+  postgresql-15-postgis-3                               # ... with PostGIS (the cameras' centres, their GiST indexes)
 )
 
 missing=()
