@@ -5,6 +5,7 @@
 #include "hv/ibr/selection.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/colmap_cameras.h"
+#include "hv/io/native/itowns_cameras.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/testing/catalog_server.h"
 
@@ -158,7 +159,7 @@ TEST_F(CameraCatalogTest, EveryFieldOfEveryLensModelRoundTrips) {
   EXPECT_EQ(readCameraCatalog(connection(), "round_trip", diag).photos.size(), 2u);
 }
 
-TEST_F(CameraCatalogTest, NativeAndColmapFilesRoundTripThroughTheCatalog) {
+TEST_F(CameraCatalogTest, NativeColmapAndITownsFilesRoundTripThroughTheCatalog) {
   // Native cameras.json: every key of the format.
   for (const char* f : {"a.jpg", "b.jpg", "b_mask.png"}) std::ofstream(dir_ / f) << "x";
   std::ofstream(dir_ / "cameras.json") << R"({"cameras": [
@@ -187,6 +188,23 @@ TEST_F(CameraCatalogTest, NativeAndColmapFilesRoundTripThroughTheCatalog) {
   ASSERT_EQ(colmap.size(), 2u) << (diag.errors.empty() ? "" : diag.errors.back());
   writeCameraCatalog(colmap, "", connection(), "colmap_cameras");
   expectSamePhotos(colmap, readCameraCatalog(connection(), "colmap_cameras", diag).photos);
+
+  // iTowns: a rig of two cameras on two panoramas, turned by roll, pitch and heading.
+  std::ofstream(dir_ / "calib.json") << R"([
+    {"id": 1, "rotation": [1,0,0, 0,0,-1, 0,1,0], "position": [0.1,0.2,0.3],
+     "projection": [1000.5,0,512.25, 0,1001.5,384.75, 0,0,1], "size": [1024, 768]},
+    {"id": 2, "rotation": [0,0,-1, 1,0,0, 0,-1,0], "position": [-0.1,0.2,0.3],
+     "projection": [1000.5,0,512.25, 0,1001.5,384.75, 0,0,1], "size": [1024, 768]}])";
+  std::ofstream(dir_ / "poses.geojson") << R"({"type": "FeatureCollection", "features": [
+    {"type": "Feature", "geometry": {"type": "Point", "coordinates": [651000.123, 6862000.456, 40.789]},
+     "properties": {"id": 7, "roll": 1.234, "pitch": -2.345, "heading": 123.456}},
+    {"type": "Feature", "geometry": {"type": "Point", "coordinates": [651003.321, 6862001.654, 40.987]},
+     "properties": {"id": 8, "roll": -0.5, "pitch": 0.25, "heading": 301.75}}]})";
+  const std::vector<Photo> itowns = readITownsCameras(
+      {(dir_ / "poses.geojson").string(), (dir_ / "calib.json").string(), "img/{panoId}-{cameraId}.jpg"}, diag, false);
+  ASSERT_EQ(itowns.size(), 4u) << (diag.errors.empty() ? "" : diag.errors.back());
+  writeCameraCatalog(itowns, "EPSG:2154", connection(), "itowns_cameras");
+  expectSamePhotos(itowns, readCameraCatalog(connection(), "itowns_cameras", diag).photos);
 }
 
 TEST_F(CameraCatalogTest, SceneJsonRendersFromTheCatalogAsFromTheFile) {

@@ -9,6 +9,7 @@
 #include "hv/util/dates.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -62,9 +63,13 @@ DatasetPtr openDatabase(const std::string& connection, bool update, const std::s
   const char* const options[] = {tables.c_str(), nullptr};
   DatasetPtr ds(GDALDataset::Open(conn.c_str(), GDAL_OF_VECTOR | (update ? GDAL_OF_UPDATE : 0), drivers,
                                   update ? nullptr : options, nullptr));
-  if (!ds)
-    throw InputError(redactConnection(connection) +
-                     ": cannot connect: " + gdal::lastError("GDAL's PostgreSQL driver could not open it"));
+  if (!ds) {
+    // libpq's message spans lines: one line here, as every message.
+    std::string why = gdal::lastError("GDAL's PostgreSQL driver could not open it");
+    why = std::regex_replace(why, std::regex(R"(\s*\n\s*)"), " ");
+    while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
+    throw InputError(redactConnection(connection) + ": cannot connect: " + why);
+  }
   return ds;
 }
 
