@@ -798,6 +798,26 @@ expect_rc "pose: a CSV with a word for a number" 2
 expect_out "pose: bad CSV" "gcp-bad.csv: line 3: column 'x': expected a finite number, got 'thirty'"
 check "pose: nothing written on error" test ! -e "$DIR/posed-bad.json"
 
+# --- catalog load: what fails without a server (the rest, with one: ctest -R '^catalog$')
+run catalog-file catalog load "$city/scene.json" "$DIR/cameras.json"
+expect_rc "catalog load: a file path for the database" 2
+expect_out "catalog load: a file path" "expected a PostgreSQL connection, \"postgresql://"
+run catalog-down catalog load "$city/scene.json" "postgresql://postgres:s3cret@127.0.0.1:1/postgres"
+expect_rc "catalog load: nobody listens on the port" 1
+expect_out "catalog load: nobody listens" "postgresql://postgres:\*\*\*@127.0.0.1:1/postgres: cannot connect"
+check "catalog load: the password is not printed" bash -c "! grep -q s3cret '$out'"
+run catalog-table catalog load "$city/scene.json" "postgresql://postgres@127.0.0.1:1/postgres" --table "x;drop"
+expect_rc "catalog load: a table name that would be SQL" 2
+expect_out "catalog load: bad table" "--table: expected a table name"
+python3 - "$city/scene.json" "$DIR/catalog-both.json" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["cameras"]["postgis"] = "postgresql://postgres@127.0.0.1:1/postgres"
+json.dump(scene, open(sys.argv[2], "w"))
+PY
+run catalog-both info "$DIR/catalog-both.json"
+expect_out "scene.json: cameras.path and cameras.postgis" "cameras.path: not with cameras.postgis"
+
 echo "cli test took $((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"
 ((failed == 0))

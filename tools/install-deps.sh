@@ -23,6 +23,8 @@ packages=(
   lighttpd                                              # tools/services.sh: the HTTP front of the local OGC stack (127.0.0.1)
   cgi-mapserver                                         # ... mapserv: WCS/WMS for the DTM, WFS + OGC API Features for footprints
   mapserver-bin                                         # ... map2img, to check the generated mapfile by hand (docs/services.md)
+  postgresql-15                                         # the camera catalog's tests: a private cluster (tools/catalog.sh)
+  postgresql-15-postgis-3                               # ... with PostGIS (the cameras' centres, their GiST indexes)
 )
 
 missing=()

@@ -1,6 +1,7 @@
 #include "hv/app/commands.h"
 
 #include "hv/app/cameras_command.h"
+#include "hv/app/catalog_command.h"
 #include "hv/app/check_command.h"
 #include "hv/app/demo_command.h"
 #include "hv/app/init_command.h"
@@ -38,6 +39,7 @@ void registerCommands(CLI::App& app) {
   addViewCommand(app, g_exit);
   addDemoCommand(app, g_exit);
   addCamerasCommand(app, g_exit);
+  addCatalogCommand(app, g_exit);
   addPoseCommand(app, g_exit);
   addWebExportCommand(app, g_exit);
   addSettingsCommand(app, g_exit);

@@ -1,5 +1,5 @@
 // The subcommands of the histoview executable (render, eval, info, check, harmonize, fly, view, demo, cameras,
-// pose, path, init, web-export, settings).
+// catalog, pose, path, init, web-export, settings).
 #pragma once
 
 namespace CLI {

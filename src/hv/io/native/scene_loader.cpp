@@ -4,6 +4,7 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/io/json_input.h"
+#include "hv/io/native/camera_catalog.h"
 #include "hv/io/native/cityjson.h"
 #include "hv/io/native/colmap_cameras.h"
 #include "hv/io/native/footprints.h"
@@ -223,7 +224,7 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
       {"mesh", {"path", "crs"}},
       {"points", {"path", "crs", "normals"}},
-      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration"}}};
+      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table"}}};
   std::vector<std::string> bad;
   for (const std::string& m : unknownKeys(doc, kTop)) bad.push_back(m);
   for (const auto& [source, keys] : kSources)
@@ -475,7 +476,9 @@ void makeGroundPlane(Scene& scene, double height, const std::string& path, Diagn
 
 }  // namespace
 
-Scene loadScene(const std::string& path, Diagnostics& diag) {
+Scene loadScene(const std::string& path, Diagnostics& diag) { return loadScene(path, diag, SceneLoadOptions{}); }
+
+Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptions& options) {
   enableRemoteReading();
   const json doc = readJsonInput(path, "scene", diag);
   if (!doc.is_object()) throw InputError(path + ": expected a JSON object");
@@ -510,7 +513,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   Heightfield dtm;
   std::string terrainPath;
   std::optional<double> groundHeight;
-  if (doc.contains("terrain") && doc["terrain"].is_object() && doc["terrain"].contains("height")) {
+  const bool geometry = !options.camerasOnly;
+  if (geometry && doc.contains("terrain") && doc["terrain"].is_object() && doc["terrain"].contains("height")) {
     const json& t = doc["terrain"];
     if (t.contains("path"))
       throw InputError(path + ": terrain: expected either a path (a DTM) or a height (a ground plane), not both");
@@ -518,7 +522,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       throw InputError(path + ": terrain.height: expected the ground's elevation in metres, got " + t["height"].dump());
     groundHeight = t["height"].get<double>();
     dtm = constantHeightfield(*groundHeight);
-  } else if (doc.contains("terrain")) {
+  } else if (geometry && doc.contains("terrain")) {
     try {
       const std::string p = sourcePath(doc, "terrain", dir, path);
       terrainPath = p;
@@ -561,7 +565,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
   }
   // Buildings are read once the cameras are known (below): only the tiles the photographs see.
   std::optional<PendingBuildings> buildings;
-  if (doc.contains("buildings")) {
+  if (geometry && doc.contains("buildings")) {
     try {
       const std::string p = sourcePath(doc, "buildings", dir, path);
       const json& b = doc["buildings"];
@@ -600,7 +604,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (buildings left out)");
     }
   }
-  if (doc.contains("mesh")) {
+  if (geometry && doc.contains("mesh")) {
     try {
       const std::string p = sourcePath(doc, "mesh", dir, path);
       const SourceGeoref georef = sourceGeoref(doc, "mesh", scene.crs, path);
@@ -616,7 +620,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       diag.error(std::string(e.what()) + " (mesh left out)");
     }
   }
-  if (doc.contains("points")) {
+  if (geometry && doc.contains("points")) {
     try {
       const std::string p = sourcePath(doc, "points", dir, path);
       const auto t0 = std::chrono::steady_clock::now();
@@ -640,15 +644,39 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       const json& c = doc["cameras"];
       if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
       if (c.contains("format") && !c["format"].is_string())
-        throw InputError(path +
-                         ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
-      const std::string format = c.value("format", "native");
+        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
+      const bool catalog = c.contains("postgis");
+      if (catalog) {
+        for (const char* key : {"path", "format", "images", "orientations", "calibration"})
+          if (c.contains(key))
+            throw InputError(path + ": cameras." + key +
+                             ": not with cameras.postgis (the cameras come either from files or from a catalog)");
+        if (!c["postgis"].is_string())
+          throw InputError(path + ": cameras.postgis: expected a PostgreSQL connection string "
+                                  "(\"postgresql://user@host:port/database\")");
+      } else if (c.contains("table")) {
+        throw InputError(path + ": cameras.table: only with cameras.postgis (the catalog's table)");
+      }
+      const std::string format = catalog ? "postgis" : c.value("format", "native");
+      std::string catalogCrs;
       auto file = [&](const char* key) {
         if (!c.contains(key) || !c[key].is_string())
           throw InputError(path + ": cameras." + key + ": expected a path string");
         return resolveSourcePath(c[key].get<std::string>(), dir);
       };
-      if (format == "native") {
+      if (catalog) {
+        // Every camera of the table at open (docs/catalog.md, mode (a)): the same selection as
+        // from files; the table's CRS is the cameras' unless cameras.crs overrides it.
+        if (c.contains("table") && !c["table"].is_string())
+          throw InputError(path + ": cameras.table: expected a table name (string)");
+        const std::string table = c.value("table", std::string(kDefaultCatalogTable));
+        checkCatalogTableName(table, path + ": cameras.table");
+        CatalogCameras read = readCameraCatalog(c["postgis"].get<std::string>(), table, diag);
+        scene.photos = std::move(read.photos);
+        catalogCrs = read.crs;
+        log::debug("cameras: " + redactConnection(c["postgis"].get<std::string>()) + " table " + table + ": " +
+                   std::to_string(scene.photos.size()) + " cameras");
+      } else if (format == "native") {
         scene.photos = readCameraFile(sourcePath(doc, "cameras", dir, path), CameraFileOptions{}, diag);
       } else if (format == "itowns") {
         // The image pattern is a path pattern, or a JSON file of per-panorama patterns.
@@ -669,9 +697,10 @@ Scene loadScene(const std::string& path, Diagnostics& diag) {
       // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
       if (c.contains("crs") && !c["crs"].is_string())
         throw InputError(path + ": cameras.crs: expected a CRS string (\"EPSG:4978\", WKT, a PROJ string)");
-      const std::string cameraCrs = c.contains("crs")    ? c["crs"].get<std::string>()
-                                    : format == "micmac" ? std::string("EPSG:4978")
-                                                         : std::string();
+      const std::string cameraCrs = c.contains("crs") ? c["crs"].get<std::string>()
+                                    : format == "micmac"  ? std::string("EPSG:4978")
+                                    : format == "postgis" ? catalogCrs
+                                                          : std::string();
       if (!cameraCrs.empty()) {
         scene.sourceCrs.push_back({"cameras", cameraCrs, true});
         if (scene.crs.empty()) scene.crs = cameraCrs;

@@ -28,4 +28,11 @@ constexpr std::size_t kTerrainTriangleBudget = 2'000'000;
 // scene.json itself cannot be read or parsed.
 Scene loadScene(const std::string& path, Diagnostics& diag);
 
+struct SceneLoadOptions {
+  // Only the photographs (their cameras, georeferenced, and colour corrections): no terrain,
+  // buildings, mesh or points are read (`histoview catalog load`, `cameras convert`).
+  bool camerasOnly = false;
+};
+Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptions& options);
+
 }  // namespace hv
