@@ -47,7 +47,10 @@ std::string otherText(const render::Setting& s) {
   switch (s.type) {
     case SettingType::Bool: return def == "true" ? "false" : "true";
     case SettingType::Int: return std::to_string(std::stoll(def) + (double(std::stoll(def) + 1) <= s.max ? 1 : -1));
-    case SettingType::Double: return s.autoValue ? "0.5" : def == "2.5" ? "3.5" : "2.5";
+    case SettingType::Double:
+      if (s.autoValue) return "0.5";
+      if (s.max < 3.5) return def == "0.25" ? "0.125" : "0.25";  // a setting in [0, 1]
+      return def == "2.5" ? "3.5" : "2.5";
     case SettingType::Enum: return s.spellings.front() == def ? s.spellings.back() : s.spellings.front();
     case SettingType::IntList: return "3,4";
     case SettingType::TextList: return "a,b";
