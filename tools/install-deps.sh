@@ -19,6 +19,7 @@ packages=(
   xdotool                                               # ... and taps keys in it (key events, not polling)
   glslang-tools                                         # glslangValidator: the shaders checked as GLSL ES 3.00
   python3                                               # the CLI, viewer and browser tests' helpers
+  sumo sumo-tools                                       # the demo's traffic: netconvert, randomTrips.py, sumo --fcd-output
 )
 
 missing=()
