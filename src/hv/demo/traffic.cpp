@@ -125,27 +125,30 @@ TrafficResult simulateTraffic(const World& world, const TrafficOptions& options,
 
   const fs::path net = dir / "streets.net.xml", trips = dir / "trips.xml";
   const fs::path fcd = fs::path(outDir) / "fcd.xml";
+  // The tools' own options (named apart from histoview's: they are SUMO's command lines, not
+  // options of ours).
+  const auto opt = [](const char* name, const std::string& value) { return std::string(" --") + name + " " + value; };
   const std::string env = "env SUMO_HOME=" + quoted(sumoHome) + " ";
-  std::string failed =
-      run("netconvert",
-          env + "netconvert --node-files " + quoted((dir / "streets.nod.xml").string()) + " --edge-files " +
-              quoted((dir / "streets.edg.xml").string()) +
-              " --offset.disable-normalization true --no-turnarounds true --output-file " + quoted(net.string()),
-          dir / "netconvert.log", options.timeoutSeconds);
+  std::string failed = run("netconvert",
+                           env + "netconvert" + opt("node-files", quoted((dir / "streets.nod.xml").string())) +
+                               opt("edge-files", quoted((dir / "streets.edg.xml").string())) +
+                               opt("offset.disable-normalization", "true") + opt("no-turnarounds", "true") +
+                               opt("output-file", quoted(net.string())),
+                           dir / "netconvert.log", options.timeoutSeconds);
   if (failed.empty()) {
     const double lastTrip = std::max(options.period, options.seconds * 2.0 / 3.0);
     failed = run("randomTrips.py",
                  env + "python3 " + quoted(randomTrips.string()) + " -n " + quoted(net.string()) + " -o " +
-                     quoted(trips.string()) + " --seed " + std::to_string(options.seed) + " -b 0 -e " +
-                     fixed(lastTrip) + " -p " + fixed(options.period) + " --min-distance 60",
+                     quoted(trips.string()) + opt("seed", std::to_string(options.seed)) + " -b 0 -e " +
+                     fixed(lastTrip) + " -p " + fixed(options.period) + opt("min-distance", "60"),
                  dir / "randomTrips.log", options.timeoutSeconds);
   }
   if (failed.empty())
     failed = run("sumo",
-                 env + "sumo -n " + quoted(net.string()) + " -r " + quoted(trips.string()) + " --begin 0 --end " +
-                     fixed(options.seconds) + " --step-length " + fixed(options.stepLength) + " --seed " +
-                     std::to_string(options.seed) + " --no-step-log true --ignore-route-errors true --fcd-output " +
-                     quoted(fcd.string()),
+                 env + "sumo -n " + quoted(net.string()) + " -r " + quoted(trips.string()) + opt("begin", "0") +
+                     opt("end", fixed(options.seconds)) + opt("step-length", fixed(options.stepLength)) +
+                     opt("seed", std::to_string(options.seed)) + opt("no-step-log", "true") +
+                     opt("ignore-route-errors", "true") + opt("fcd-output", quoted(fcd.string())),
                  dir / "sumo.log", options.timeoutSeconds);
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!failed.empty()) {
