@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -31,10 +32,10 @@ bool haveTool(const std::string& name) {
   return std::system(("command -v " + quoted(name) + " >/dev/null 2>&1").c_str()) == 0;
 }
 
-// Runs `command` with its output into `log`, stopped after `timeoutSeconds`; "" or why it failed.
+// Runs `command` (which stops itself after `timeoutSeconds`: timeout(1)) with its output into
+// `log`; "" or why it failed.
 std::string run(const std::string& what, const std::string& command, const fs::path& log, double timeoutSeconds) {
-  const std::string line = "timeout " + std::to_string(int(std::ceil(timeoutSeconds))) + " " + command + " >" +
-                           quoted(log.string()) + " 2>&1";
+  const std::string line = "(" + command + ") >" + quoted(log.string()) + " 2>&1";
   const int rc = std::system(line.c_str());
   if (rc == 0) return "";
   const int code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
@@ -128,32 +129,47 @@ TrafficResult simulateTraffic(const World& world, const TrafficOptions& options,
   // The tools' own options (named apart from histoview's: they are SUMO's command lines, not
   // options of ours).
   const auto opt = [](const char* name, const std::string& value) { return std::string(" --") + name + " " + value; };
-  const std::string env = "env SUMO_HOME=" + quoted(sumoHome) + " ";
+  // Run in the traffic folder with relative names: SUMO copies its command line into its outputs.
+  const std::string env = "cd " + quoted(dir.string()) + " && timeout " +
+                          std::to_string(int(std::ceil(options.timeoutSeconds))) +
+                          " env SUMO_HOME=" + quoted(sumoHome) + " ";
   std::string failed = run("netconvert",
-                           env + "netconvert" + opt("node-files", quoted((dir / "streets.nod.xml").string())) +
-                               opt("edge-files", quoted((dir / "streets.edg.xml").string())) +
-                               opt("offset.disable-normalization", "true") + opt("no-turnarounds", "true") +
-                               opt("output-file", quoted(net.string())),
+                           env + "netconvert" + opt("node-files", "streets.nod.xml") +
+                               opt("edge-files", "streets.edg.xml") + opt("offset.disable-normalization", "true") +
+                               opt("no-turnarounds", "true") + opt("output-file", "streets.net.xml"),
                            dir / "netconvert.log", options.timeoutSeconds);
   if (failed.empty()) {
     const double lastTrip = std::max(options.period, options.seconds * 2.0 / 3.0);
     failed = run("randomTrips.py",
-                 env + "python3 " + quoted(randomTrips.string()) + " -n " + quoted(net.string()) + " -o " +
-                     quoted(trips.string()) + opt("seed", std::to_string(options.seed)) + " -b 0 -e " +
-                     fixed(lastTrip) + " -p " + fixed(options.period) + opt("min-distance", "60"),
+                 env + "python3 " + quoted(randomTrips.string()) + " -n streets.net.xml -o trips.xml" +
+                     opt("seed", std::to_string(options.seed)) + " -b 0 -e " + fixed(lastTrip) + " -p " +
+                     fixed(options.period) + opt("min-distance", "60"),
                  dir / "randomTrips.log", options.timeoutSeconds);
   }
   if (failed.empty())
     failed = run("sumo",
-                 env + "sumo -n " + quoted(net.string()) + " -r " + quoted(trips.string()) + opt("begin", "0") +
-                     opt("end", fixed(options.seconds)) + opt("step-length", fixed(options.stepLength)) +
-                     opt("seed", std::to_string(options.seed)) + opt("no-step-log", "true") +
-                     opt("ignore-route-errors", "true") + opt("fcd-output", quoted(fcd.string())),
+                 env + "sumo -n streets.net.xml -r trips.xml" + opt("begin", "0") + opt("end", fixed(options.seconds)) +
+                     opt("step-length", fixed(options.stepLength)) + opt("seed", std::to_string(options.seed)) +
+                     opt("no-step-log", "true") + opt("ignore-route-errors", "true") + opt("fcd-output", "../fcd.xml"),
                  dir / "sumo.log", options.timeoutSeconds);
   result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!failed.empty()) {
     result.message = failed;
     return result;
+  }
+  // SUMO dates its outputs ("generated on <date> <time> by ..."): left out, so that two
+  // runs write the same bytes, as the rest of the demo city.
+  for (const fs::path& p : {fcd, net, trips}) {
+    std::ifstream in(p, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const std::string mark = "generated on ";
+    const std::size_t at = text.find(mark);
+    if (at == std::string::npos || at > 512) continue;
+    const std::size_t by = text.find(" by ", at);  // sumo: "<date> <time>", randomTrips.py: "<time>.<us>"
+    if (by == std::string::npos || by > at + 64) continue;
+    text.erase(at + mark.size() - 4, by - (at + mark.size() - 4));  // "generated by ..."
+    std::ofstream(p, std::ios::binary) << text;
   }
   result.ok = true;
   result.fcdPath = fcd.string();
