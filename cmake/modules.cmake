@@ -87,13 +87,15 @@ function(hv_define_modules)
   hv_module(camera PORTABLE DIRS camera DEPS math util PRIVATE_EXTERNAL eigen)
   hv_module(image PORTABLE DIRS image DEPS util EXTERNAL glm PRIVATE_EXTERNAL stb)
   hv_module(scene PORTABLE DIRS scene DEPS camera math util PRIVATE_EXTERNAL eigen nanoflann)
+  # Traffic: trajectories from a simulator, sampled in time and lifted onto the terrain.
+  hv_module(traffic PORTABLE DIRS traffic DEPS math scene util)
   hv_module(io PORTABLE DIRS io DEPS camera scene util EXTERNAL json)
   hv_module(ibr PORTABLE DIRS ibr DEPS camera image scene util PRIVATE_EXTERNAL nanoflann stb)
   hv_module(gpu PORTABLE DIRS gpu DEPS image util EXTERNAL gles glm EXTRA_SOURCES ${HV_SHADER_CPP})
   # The renderer without GL: settings and their schema, the frame, the frame builder, the backend
   # interface and the null backend (tested on the CPU). render/renderer.h is its API; the class is
   # implemented in render_gl, over the GLES backend and its passes.
-  hv_module(render PORTABLE DIRS render EXCLUDE ".*/render/renderer\\.cpp$" DEPS camera ibr image scene util
+  hv_module(render PORTABLE DIRS render EXCLUDE ".*/render/renderer\\.cpp$" DEPS camera ibr image scene traffic util
             PRIVATE_EXTERNAL json)
   hv_module(render_gl PORTABLE DIRS render/gl EXTRA_SOURCES ${CMAKE_SOURCE_DIR}/src/hv/render/renderer.cpp
             DEPS gpu render PRIVATE_DEPS camera ibr image scene util)
@@ -104,7 +106,7 @@ function(hv_define_modules)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
   hv_module(scene_native DIRS scene/native DEPS scene util PRIVATE_EXTERNAL geos embree)
-  hv_module(io_native DIRS io/native io/native/private DEPS camera scene scene_native util PRIVATE_DEPS io
+  hv_module(io_native DIRS io/native io/native/private DEPS camera scene scene_native traffic util PRIVATE_DEPS io
             PRIVATE_EXTERNAL gdal proj assimp pugixml json)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
   # Layers from ray casts, their pre-fill from the other photographs, OpenRaster files (libzip).

@@ -25,6 +25,7 @@ packages=(
   mapserver-bin                                         # ... map2img, to check the generated mapfile by hand (docs/services.md)
   postgresql-15                                         # the camera catalog's tests: a private cluster (tools/catalog.sh)
   postgresql-15-postgis-3                               # ... with PostGIS (the cameras' centres, their GiST indexes)
+  sumo sumo-tools                                       # the demo's traffic: netconvert, randomTrips.py, sumo --fcd-output
 )
 
 missing=()

@@ -83,6 +83,8 @@ int runDemo(const DemoCommandOptions& o) {
   settings.background = glm::dvec3(0.0);
   settings.untextured.shading = false;
   settings.untextured.sky = false;
+  // Scored against views without traffic (docs/traffic.md: `render --time` shows it).
+  settings.traffic.enabled = false;
   render::Renderer renderer(scene, settings, diag);
 
   const std::string renderDir = (fs::path(o.out) / "renders").string();

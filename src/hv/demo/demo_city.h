@@ -98,6 +98,18 @@ struct LidarSettings {
   double minRange = 0.5, maxRange = 60.0;
 };
 
+// The demo's traffic (docs/traffic.md): SUMO (sumo.dlr.de) run on the city's street grid, written
+// as a plain network (nodes and edges), built by netconvert, random trips (randomTrips.py, a fixed
+// seed) and `sumo --fcd-output` for the trajectories.
+struct TrafficOptions {
+  bool enabled = true;
+  double seconds = 60.0;    // simulated time; trips start during the first two thirds of it
+  double period = 1.0;      // a trip starts every `period` seconds (randomTrips.py -p)
+  double stepLength = 0.5;  // SUMO's step: the FCD's sampling, seconds
+  std::uint32_t seed = 42;
+  double timeoutSeconds = 60.0;  // each SUMO tool is stopped after this long (wall clock)
+};
+
 struct DemoOptions {
   std::uint32_t seed = 1;
   int buildings = 40;  // the small city (blocks == 0)
@@ -110,6 +122,7 @@ struct DemoOptions {
   int samplesPerAxis = 2;  // supersampling: samplesPerAxis^2 rays per pixel
   CitySettings city;
   LidarSettings lidar;
+  TrafficOptions traffic;
 };
 
 // Material ids: the ground-truth mesh's Mesh::triangleTags.
@@ -280,10 +293,27 @@ Rendered renderShot(const World& world, const RayCaster& truthCaster, const Shot
 // ray (deterministic; turns are shared among all cores). CRS "EPSG:2154".
 PointCloud simulateLidar(const World& world);
 
+// What simulateTraffic did: the FCD written (its path, the offset from SUMO's coordinates to the
+// scene frame for scene.json's "traffic"), or why not.
+struct TrafficResult {
+  bool ok = false;
+  std::string fcdPath;     // outDir/fcd.xml
+  glm::dvec2 offset{0.0};  // scene frame = SUMO's x, y + offset
+  std::string message;     // what was done, or why it failed (a missing tool named)
+  double wallSeconds = 0.0;
+};
+
+// Writes outDir/traffic/ (streets.nod.xml, streets.edg.xml, streets.net.xml, trips.xml, logs) and
+// outDir/fcd.xml: every street of World::streets two-way with one lane each way, nodes at their
+// crossings, coordinates relative to CitySettings::originXY. Never throws for a missing or
+// failing tool: the result says which and why.
+TrafficResult simulateTraffic(const World& world, const TrafficOptions& options, const std::string& outDir);
+
 struct DemoSummary {
   std::string scenePath, viewsPath, truthDir;
   int photos = 0, views = 0, buildings = 0;  // buildings: LOD1 footprints written
   std::size_t points = 0;                    // of the simulated lidar scan
+  TrafficResult traffic;                     // the SUMO run (options.traffic)
 };
 
 // Writes the demo scene into outDir (created): scene.json, dtm.tif, buildings.geojson,

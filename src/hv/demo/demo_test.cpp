@@ -12,6 +12,7 @@
 #include "hv/io/native/las_reader.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
+#include "hv/io/native/sumo_fcd.h"
 #include "hv/scene/native/lod1.h"
 
 namespace hv::demo {
@@ -299,7 +300,57 @@ TEST_F(DemoCity, Deterministic) {
   EXPECT_EQ(readBytes(*dir_ / "points.las"), readBytes(b / "points.las"));
   EXPECT_EQ(readBytes(*dir_ / "points.ply"), readBytes(b / "points.ply"));
   EXPECT_FALSE(readBytes(b / "images" / "p0001.png").empty());
+  // SUMO's output carries the date it was written: the trajectories are what must agree.
+  Diagnostics diag;
+  const Trajectories ta = readSumoFcd((*dir_ / "fcd.xml").string(), diag),
+                     tb = readSumoFcd((b / "fcd.xml").string(), diag);
+  ASSERT_EQ(ta.vehicles.size(), tb.vehicles.size());
+  for (size_t i = 0; i < ta.vehicles.size(); ++i) {
+    ASSERT_EQ(ta.vehicles[i].samples.size(), tb.vehicles[i].samples.size());
+    EXPECT_EQ(ta.vehicles[i].samples.back().xy, tb.vehicles[i].samples.back().xy);
+  }
   fs::remove_all(b);
+}
+
+// The traffic: SUMO ran on the city's street grid (netconvert, randomTrips.py, sumo), scene.json
+// names its FCD, and the trajectories read back put the vehicles on the carriageway, in the
+// right-hand lane, heading along the street.
+TEST_F(DemoCity, TrafficSimulatedOnTheStreetsAndReadBack) {
+  ASSERT_TRUE(summary_->traffic.ok) << summary_->traffic.message;
+  std::ifstream sceneFile(*dir_ / "scene.json");
+  const nlohmann::json scene = nlohmann::json::parse(sceneFile);
+  ASSERT_TRUE(scene.contains("traffic"));
+  EXPECT_EQ(scene["traffic"]["fcd"], "fcd.xml");
+  const glm::dvec2 offset(scene["traffic"]["offset"][0].get<double>(), scene["traffic"]["offset"][1].get<double>());
+  Diagnostics diag;
+  const Trajectories t = readSumoFcd((*dir_ / "fcd.xml").string(), diag);
+  EXPECT_TRUE(diag.warnings.empty()) << diag.warnings.front();
+  EXPECT_GE(t.vehicles.size(), 10u);
+  EXPECT_GT(t.tEnd, 20.0);
+  std::size_t samples = 0, onRoad = 0, alongStreet = 0, rightLane = 0;
+  for (const Trajectory& v : t.vehicles)
+    for (const TrajectorySample& s : v.samples) {
+      const glm::dvec2 p = s.xy + offset;
+      ++samples;
+      if (world_->onRoad(p.x, p.y)) ++onRoad;
+      // Along a street: the heading a multiple of 90 degrees (the grid), and then the vehicle on
+      // the right of the street's centre line.
+      const double a = std::fmod(s.angleDeg + 360.0, 90.0);
+      if (std::min(a, 90.0 - a) > 1.0) continue;
+      ++alongStreet;
+      const glm::dvec2 f = forwardFromSumoAngle(s.angleDeg), right(f.y, -f.x);
+      for (const Street& st : world_->streets) {
+        const double offCentre = st.alongX ? p.y - st.centre : p.x - st.centre;
+        if (std::abs(offCentre) > 0.5 * world_->roadWidth) continue;
+        if ((st.alongX ? std::abs(f.x) : std::abs(f.y)) < 0.9) continue;  // crossing it, not along it
+        const double side = st.alongX ? offCentre * right.y : offCentre * right.x;
+        if (side > 0.5) ++rightLane;
+        break;
+      }
+    }
+  ASSERT_GT(samples, 200u);
+  EXPECT_GT(double(onRoad) / double(samples), 0.98);
+  EXPECT_GT(double(rightLane) / double(alongStreet), 0.95);
 }
 
 // The lidar scan: the LAS and PLY files hold the same points; every class is there in plausible

@@ -121,12 +121,18 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - tScan).count() << " s";
     say(m.str());
   }
-  writeJson(dir / "scene.json",
-            {{"crs", "EPSG:2154"},
-             {"terrain", {{"path", "dtm.tif"}}},
-             {"buildings", {{"path", large ? "buildings.gpkg" : "buildings.geojson"}, {"height", "height"}}},
-             {"points", {{"path", "points.las"}}},
-             {"cameras", {{"path", "cameras.json"}}}});
+  json sceneJson = {{"crs", "EPSG:2154"},
+                    {"terrain", {{"path", "dtm.tif"}}},
+                    {"buildings", {{"path", large ? "buildings.gpkg" : "buildings.geojson"}, {"height", "height"}}},
+                    {"points", {{"path", "points.las"}}},
+                    {"cameras", {{"path", "cameras.json"}}}};
+  TrafficResult traffic;
+  if (options.traffic.enabled) {
+    traffic = simulateTraffic(world, options.traffic, dir.string());
+    if (traffic.ok) sceneJson["traffic"] = {{"fcd", "fcd.xml"}, {"offset", {traffic.offset.x, traffic.offset.y}}};
+    say("demo city: traffic: " + traffic.message + (traffic.ok ? "" : " (the scene has no traffic)"));
+  }
+  writeJson(dir / "scene.json", sceneJson);
 
   const RayCaster caster(world.truth.mesh);
   const ShotPlan plan = planShots(world, caster);
@@ -173,6 +179,7 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   summary.photos = int(plan.photos.size());
   summary.views = int(plan.views.size());
   summary.buildings = int(footprints);
+  summary.traffic = traffic;
   summary.points = scan.size();
   return summary;
 }

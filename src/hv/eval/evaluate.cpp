@@ -91,6 +91,8 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
       }
       for (Method m : opt.methods) {
         applyMethod(m, renderer.settings());
+        // The truth is the empty street: a simulation's vehicles are no error of the method.
+        renderer.settings().traffic.enabled = false;
         render::RenderOutput out = renderer.render(cam);
         size_t covered = 0;
         for (size_t i = 0; i < n; ++i) {

@@ -128,6 +128,21 @@ struct DebugPass {
   const FrustumLines* frustumLines = nullptr;  // when frusta: owned by the builder
 };
 
+// One vehicle of the frame (render/vehicles.h): its box on the terrain, render frame.
+struct VehicleInstance {
+  glm::vec3 position{0.0f};  // centre of its footprint, on the terrain
+  glm::vec3 right{1.0f, 0.0f, 0.0f}, forward{0.0f, 1.0f, 0.0f}, up{0.0f, 0.0f, 1.0f};  // unit axes
+  glm::vec3 size{4.5f, 1.8f, 1.5f};  // length, width, height
+  glm::vec3 colour{0.5f};            // body colour, linear [0, 1]
+};
+
+// The traffic drawn over the picture, depth-tested against the view's depth (pinhole views only:
+// vehicles_pass.cpp).
+// Lit as the untextured surfaces (Frame::untextured: its sun, sky and ground light).
+struct TrafficDraw {
+  std::vector<VehicleInstance> vehicles;
+};
+
 struct Frame {
   std::uint64_t number = 0;       // 1 for the first frame
   FrameMode mode = FrameMode::Batch;
@@ -158,6 +173,7 @@ struct Frame {
   UntexturedSettings untextured;  // where no photograph contributes (render/untextured.h)
   glm::dvec3 up{0.0, 0.0, 1.0};   // Scene::up
   DebugPass debug;
+  TrafficDraw traffic;            // empty: no traffic (none in the scene, or switched off)
   bool withCounts = false;        // counts and loop lengths read back
   bool readBackColour = true;
 };

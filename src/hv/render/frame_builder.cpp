@@ -2,6 +2,8 @@
 
 #include "hv/ibr/slice_image.h"
 #include "hv/render/geometry_tiles.h"
+#include "hv/render/vehicles.h"
+#include "hv/traffic/lift.h"
 
 #include "hv/util/log.h"
 
@@ -453,7 +455,25 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   if (f.debug.frusta) f.debug.frustumLines = &frustumLines();
   f.withCounts = withCounts;
   f.readBackColour = settings_.readBackColour;
+  trafficOfFrame(f);
   return f;
+}
+
+// The vehicles at the settings' time, on the terrain the view shows (scene.terrain, whatever it
+// was made from). Pinhole views only (render/gl/vehicles_pass.cpp).
+void FrameBuilder::trafficOfFrame(Frame& f) {
+  if (!settings_.traffic.enabled || !scene_.traffic || scene_.traffic->vehicles.empty()) return;
+  if (!terrainHeight_) {
+    terrainHeight_ = std::make_unique<MeshTerrainHeight>(scene_.terrain);
+    if (terrainHeight_->empty()) diag_.warn("traffic: the scene has no terrain to put the vehicles on (not drawn)");
+  }
+  if (terrainHeight_->empty()) return;
+  if (f.rect.distorted) {
+    if (!warnedTrafficDistorted_) diag_.warn("traffic: not drawn in a view with lens distortion (pinhole views only)");
+    warnedTrafficDistorted_ = true;
+    return;
+  }
+  f.traffic.vehicles = vehicleInstances(*scene_.traffic, *terrainHeight_, settings_.traffic.time, scene_.origin);
 }
 
 void FrameBuilder::viewPassesDone(const Frame& f, const ViewPassStats& s) {

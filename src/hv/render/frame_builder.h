@@ -16,6 +16,10 @@
 #include <memory>
 #include <vector>
 
+namespace hv {
+class MeshTerrainHeight;  // hv/traffic/lift.h
+}
+
 namespace hv::render {
 
 class FrameBuilder {
@@ -73,6 +77,7 @@ class FrameBuilder {
   int prepareDebugPhoto(FrameMode mode);
   void drawDepthMaps(Frame& frame, int debugSlot);
   void packParams(Frame& frame);
+  void trafficOfFrame(Frame& frame);
   void applyLiveSettings();
   void invalidateDepthMaps();
   void reloadPhotographs();
@@ -131,6 +136,9 @@ class FrameBuilder {
   FrustumLines frustumLines_;
   double frustumDepthBuilt_ = -1.0;
   bool frustumLensBuilt_ = true;
+  // The traffic's terrain heights (scene.terrain), built on first use.
+  std::unique_ptr<MeshTerrainHeight> terrainHeight_;
+  bool warnedTrafficDistorted_ = false;
 };
 
 }  // namespace hv::render

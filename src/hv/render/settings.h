@@ -106,6 +106,14 @@ struct DebugSettings {
   double frustumDepth = -1.0;  // scene units; <= 0: the scene's camera spacing
 };
 
+// The vehicles of scene.json "traffic" (docs/traffic.md): the trajectories at `time` on the
+// simulation's clock, lifted onto the terrain and drawn over the picture, hidden by what the view's
+// depth holds in front of them (the 2013 paper, §3).
+struct TrafficSettings {
+  bool enabled = true;  // off: the empty street
+  double time = 0.0;    // seconds, the trajectories' own clock
+};
+
 struct RenderSettings {
   Binding binding = Binding::Array;
   ibr::BlendSettings blend;
@@ -147,6 +155,7 @@ struct RenderSettings {
   PointSettings points;
   LayerSettings layers;
   DebugSettings debug;
+  TrafficSettings traffic;
 };
 
 }  // namespace hv::render

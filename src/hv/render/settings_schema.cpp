@@ -155,7 +155,7 @@ Entry windowEnd(bool from) {
 std::vector<Setting> makeSchema() {
   const std::string blend = "Blending", untextured = "Untextured surfaces and sky", time = "Time window",
                     depth = "Depth maps", layers = "Geometry", points = "Points", debug = "Debug",
-                    resources = "Resources";
+                    resources = "Resources", traffic = "Traffic";
   std::vector<Entry> t;
   // Brédif 2013 eq. 1-2: the K nearest cameras, weights f(d_i) - f(d_K+1), f(d) = 1/(sigma^2 + d^2).
   t.push_back(field("k", blend, "photographs blended per pixel (the K nearest cameras that see it; with selection "
@@ -303,6 +303,13 @@ std::vector<Setting> makeSchema() {
                     [](auto& s) -> auto& { return s.points.eyeDomeStrength; }).atLeast(0).slider(0, 2));
   t.push_back(field("eye-dome-radius", points, "eye-dome lighting neighbour distance",
                     [](auto& s) -> auto& { return s.points.eyeDomeRadiusPx; }).unit("px").above(0).slider(0.5, 5));
+
+  t.push_back(field("traffic", traffic, "draw the vehicles of scene.json's traffic (a simulator's trajectories) "
+                    "at --time, lifted onto the terrain, hidden by the geometry in front of them",
+                    [](auto& s) -> auto& { return s.traffic.enabled; }));
+  t.push_back(field("time", traffic, "the traffic's simulation clock: a vehicle is shown between its first and last "
+                    "sample", [](auto& s) -> auto& { return s.traffic.time; })
+                  .unit("s").atLeast(0).slider(0, 3600));
 
   t.push_back(choice("debug-view", debug, "the picture, or a debug view: contributing images per pixel, the chosen "
                      "photograph's weight or its depth map (docs/viewer.md)", {"picture", "count", "weight", "depth"},

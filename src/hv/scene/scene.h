@@ -18,6 +18,7 @@
 namespace hv {
 
 class TerrainQuadtree;  // hv/scene/terrain_quadtree.h
+struct Trajectories;    // hv/traffic/trajectories.h
 
 // A photograph's colour correction (docs/design.md, "Photographs that agree in colour"): the colour
 // c sampled from it (straight, not premultiplied, in [0, 1]) is shown as gain * c + offset, channel
@@ -89,6 +90,10 @@ struct Scene {
   std::vector<Photo> photos;
   // scene.json "colour": the colour corrections file it names (resolved), empty when none.
   std::string colourPath;
+  // scene.json "traffic" (docs/traffic.md): vehicle trajectories in the scene frame, null when
+  // none; `trafficPath` the file they were read from.
+  std::shared_ptr<const Trajectories> traffic;
+  std::string trafficPath;
 
   Aabb bounds() const;  // geometry and camera centres
   // Median distance from each camera centre to its nearest other centre: the scene's own scale

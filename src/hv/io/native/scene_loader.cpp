@@ -16,6 +16,7 @@
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
 #include "hv/io/native/remote.h"
+#include "hv/io/native/sumo_fcd.h"
 #include "hv/io/native/terrain_raster.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
@@ -217,14 +218,15 @@ PointCloud readPointFile(const std::string& p) {
 // misspelt one ("terain"): the scene would load without what it names, so it is refused instead,
 // with the nearest known key. "layers" is read by hv/layers/native/layer_import.h (readLayerFiles).
 void refuseUnknownKeys(const json& doc, const std::string& path) {
-  static const std::vector<std::string> kTop = {"crs",    "origin",  "up",     "terrain", "buildings",
-                                                "mesh",   "points",  "cameras", "colour", "layers"};
+  static const std::vector<std::string> kTop = {"crs",  "origin", "up",      "terrain", "buildings", "mesh",
+                                                "points", "cameras", "colour", "layers", "traffic"};
   static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
       {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
       {"mesh", {"path", "crs"}},
       {"points", {"path", "crs", "normals"}},
-      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table"}}};
+      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table"}},
+      {"traffic", {"fcd", "csv", "crs", "offset"}}};
   std::vector<std::string> bad;
   for (const std::string& m : unknownKeys(doc, kTop)) bad.push_back(m);
   for (const auto& [source, keys] : kSources)
@@ -235,6 +237,59 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
   for (const std::string& b : bad) list += (list.empty() ? "" : "; ") + b;
   throw InputError(path + ": " + list +
                    " (this version reads only the keys of docs/formats.md; the scene is not loaded)");
+}
+
+// scene.json "traffic" (docs/traffic.md): SUMO FCD (`fcd`) or CSV (`csv`) trajectories; `offset`
+// [dx, dy] added to the file's x, y (SUMO's network coordinates are the projected ones plus the
+// network's netOffset: give minus it), then `crs` (default: the scene frame as it is, like a mesh)
+// through PROJ. Headings turn with the CRS: each vehicle's by the Jacobian at its first sample.
+void loadTraffic(Scene& scene, const json& doc, const std::string& dir, const std::string& path, Diagnostics& diag) {
+  const json& t = doc["traffic"];
+  if (!t.is_object()) throw InputError(path + ": traffic: expected an object with \"fcd\" or \"csv\"");
+  const bool fcd = t.contains("fcd"), csv = t.contains("csv");
+  if (fcd == csv)
+    throw InputError(path + ": traffic: expected exactly one of \"fcd\" (SUMO floating car data) and \"csv\" "
+                            "(t,id,x,y,angle,type trajectories)");
+  const char* key = fcd ? "fcd" : "csv";
+  if (!t[key].is_string() || t[key].get<std::string>().empty())
+    throw InputError(path + ": traffic." + key + ": expected a string path");
+  const fs::path rel = t[key].get<std::string>();
+  const std::string file = (rel.is_absolute() ? rel : fs::path(dir) / rel).lexically_normal().string();
+  glm::dvec2 offset(0.0);
+  if (t.contains("offset")) {
+    const json& o = t["offset"];
+    if (!o.is_array() || o.size() != 2 || !o[0].is_number() || !o[1].is_number())
+      throw InputError(path + ": traffic.offset: expected [dx, dy] in metres, got " + o.dump());
+    offset = {o[0].get<double>(), o[1].get<double>()};
+  }
+  const SourceGeoref georef = sourceGeoref(doc, "traffic", scene.crs, path);
+  Trajectories traj = fcd ? readSumoFcd(file, diag) : readTrajectoriesCsv(file, diag);
+  for (Trajectory& v : traj.vehicles)
+    for (TrajectorySample& s : v.samples) s.xy += offset;
+  if (!georef.crs.empty() && !scene.crs.empty()) {
+    const GeoTransform transform = sourceTransform(georef, georef.crs, file, diag);
+    if (!transform.isIdentity())
+      for (Trajectory& v : traj.vehicles) {
+        const glm::dvec3 first(v.samples.front().xy, 0.0);
+        glm::dmat3 J = transform.jacobian(first);
+        // Degrees of longitude and latitude are not the same length: the angle is measured on the
+        // ground, so each axis's image counts by its direction only.
+        if (transform.source().geographic)
+          for (int axis = 0; axis < 2; ++axis) J[axis] = glm::normalize(J[axis]);
+        for (TrajectorySample& s : v.samples) {
+          const glm::dvec2 f = forwardFromSumoAngle(s.angleDeg);
+          const glm::dvec3 g = J * glm::dvec3(f, 0.0);
+          s.angleDeg = std::atan2(g.x, g.y) * 180.0 / std::numbers::pi;
+          s.xy = glm::dvec2(transform.point(glm::dvec3(s.xy, 0.0)));
+        }
+      }
+    recordSource(scene, "traffic", georef.crs);
+  }
+  log::debug("traffic: " + file + ": " + std::to_string(traj.vehicles.size()) + " vehicles, " +
+             std::to_string(traj.samples()) + " samples, t in [" + std::to_string(traj.tBegin) + ", " +
+             std::to_string(traj.tEnd) + "] s");
+  scene.trafficPath = file;
+  scene.traffic = std::make_shared<const Trajectories>(std::move(traj));
 }
 
 // The buildings' base heights on a DTM read as tiles: the finest level within
@@ -722,6 +777,15 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       applyColourCorrections(scene.photos, readColourCorrections(scene.colourPath, diag), scene.colourPath, diag);
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (colour corrections left out)");
+    }
+  }
+
+  if (doc.contains("traffic")) {
+    try {
+      loadTraffic(scene, doc, dir, path, diag);
+    } catch (const InputError& e) {
+      scene.traffic.reset();
+      diag.error(std::string(e.what()) + " (traffic left out)");
     }
   }
 

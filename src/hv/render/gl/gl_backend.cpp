@@ -192,10 +192,12 @@ RenderOutput GlBackend::runViewPasses(const Frame& f, ViewPassStats& stats) {
     out.counts = decodeCounts(shade(kShadeCount, view.width, view.height, true));
     out.loopLengths = decodeCounts(shade(kShadeLoopLength, view.width, view.height, true));
   }
-  if (f.debug.view == DebugView::None)
+  if (f.debug.view == DebugView::None) {
     shade(kShadeColour, view.width, view.height, false);
-  else
+    vehiclesPass(f);
+  } else {
     out.debugValues = debugViewPass(f, stats);
+  }
   if (f.debug.frusta) frustaPass(f);
   if (f.readBackColour) out.rgba = readColour(view.width, view.height);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

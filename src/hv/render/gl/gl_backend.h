@@ -89,6 +89,8 @@ class GlBackend final : public Backend {
   Image16 depthMapView(const Frame& f, ViewPassStats& stats);
   // overlay_pass.cpp
   void frustaPass(const Frame& f);
+  // vehicles_pass.cpp
+  void vehiclesPass(const Frame& f);
 
   Diagnostics& diag_;
   gpu::GlLimits limits_;
@@ -134,6 +136,12 @@ class GlBackend final : public Backend {
   gpu::VertexArray frustumVao_;
   gpu::Buffer frustumBuffer_;
   std::uint64_t frustumVersion_ = 0;
+
+  // The traffic (vehicles_pass.cpp), linked on first use.
+  VehicleProgram vehicleProgram_;
+  gpu::VertexArray vehicleVao_;
+  gpu::Buffer vehicleShape_, vehicleInstances_;
+  int vehicleShapeVertices_ = 0;
   bool warnedDebugNaive_ = false;
 };
 

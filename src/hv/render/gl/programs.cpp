@@ -44,6 +44,7 @@ const ProgramSources& programs() {
       {"points.vert", "points.frag", {"HV_MAT3_K=4"}},
       {"fullscreen.vert", "debug_depth.frag", {}},
       {"lines.vert", "lines.frag", {}},
+      {"vehicles.vert", "vehicles.frag", {}},
   };
   return p;
 }
@@ -193,13 +194,28 @@ LinesProgram::LinesProgram(const ProgramSource& src) : program(linkProgram(src))
   color = u.required("u_color");
 }
 
+VehicleProgram::VehicleProgram(const ProgramSource& src) : program(linkProgram(src)) {
+  const gpu::UniformResolver u(program, programName(src, {}));
+  clipFromRender = u.required("u_clipFromRender");
+  near = u.required("u_near");
+  far = u.required("u_far");
+  sunDir = u.required("u_sunDir");
+  skyLight = u.required("u_skyLight");
+  groundLight = u.required("u_groundLight");
+  sunLight = u.required("u_sunLight");
+  glass = u.required("u_glass");
+  shadowOpacity = u.required("u_shadowOpacity");
+  shadowLift = u.required("u_shadowLift");
+}
+
 }  // namespace gl
 
 const std::vector<ProgramSource>& programSources() {
   static const std::vector<ProgramSource> list = [] {
     const gl::ProgramSources& p = gl::programs();
     return std::vector<ProgramSource>{p.depth,      p.viewDepth,  p.shade,     p.tileDepth,  p.naive,
-                                      p.pointDepth, p.pointColor, p.pointMat3, p.debugDepth, p.lines};
+                                      p.pointDepth, p.pointColor, p.pointMat3, p.debugDepth, p.lines,
+                                      p.vehicles};
   }();
   return list;
 }

@@ -24,6 +24,7 @@ struct ProgramSources {
   ProgramSource pointMat3;   // the 2016 form (the renderer picks K)
   ProgramSource debugDepth;  // DebugView::DepthMap
   ProgramSource lines;       // DebugSettings::frusta
+  ProgramSource vehicles;    // the traffic's boxes and contact shadows
 };
 const ProgramSources& programs();
 
@@ -98,6 +99,16 @@ struct LinesProgram {
   GLint clipFromRender = -1, near = -1, far = -1, color = -1;
   LinesProgram() = default;
   explicit LinesProgram(const ProgramSource& src);
+};
+
+// vehicles.vert + vehicles.frag: the traffic, instanced boxes lit by sun and sky, and a contact
+// shadow under each.
+struct VehicleProgram {
+  gpu::Program program;
+  GLint clipFromRender = -1, near = -1, far = -1, sunDir = -1, skyLight = -1, groundLight = -1, sunLight = -1,
+        glass = -1, shadowOpacity = -1, shadowLift = -1;
+  VehicleProgram() = default;
+  explicit VehicleProgram(const ProgramSource& src);
 };
 
 }  // namespace hv::render::gl

@@ -32,6 +32,7 @@ TEST(ProgramsGlTest, EveryTypedProgramResolvesItsUniforms) {
   EXPECT_NO_THROW(PointProgram{p.pointMat3});
   EXPECT_NO_THROW(DebugDepthProgram{p.debugDepth});
   EXPECT_NO_THROW(LinesProgram{p.lines});
+  EXPECT_NO_THROW(VehicleProgram{p.vehicles});
 }
 
 TEST(ProgramsGlTest, MissingUniformThrowsNamingProgramAndUniform) {

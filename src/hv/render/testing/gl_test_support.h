@@ -112,7 +112,10 @@ struct DemoCity {
 inline const DemoCity& demoCity() {
   static const DemoCity city = [] {
     DemoCity c;
-    c.summary = demo::generate(demo::DemoOptions{}, makeTempDir("demo-city"));
+    // Without the traffic: the views are scored against a truth without vehicles.
+    demo::DemoOptions options;
+    options.traffic.enabled = false;
+    c.summary = demo::generate(options, makeTempDir("demo-city"));
     Diagnostics diag;
     c.scene = loadScene(c.summary.scenePath, diag);
     EXPECT_TRUE(diag.ok());
