@@ -1,6 +1,7 @@
 #include "hv/pose/control_points.h"
 
 #include "hv/util/diagnostics.h"
+#include "hv/util/text.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -11,34 +12,15 @@ namespace {
 
 constexpr size_t kMaxPoints = 1000000;
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
-  return s;
-}
-
 std::vector<std::string_view> splitFields(std::string_view line) {
   std::vector<std::string_view> out;
   size_t start = 0;
   for (size_t i = 0; i <= line.size(); ++i)
     if (i == line.size() || line[i] == ',') {
-      out.push_back(trim(line.substr(start, i - start)));
+      out.push_back(trimField(line.substr(start, i - start)));
       start = i + 1;
     }
   return out;
-}
-
-std::string lower(std::string_view s) {
-  std::string r(s);
-  for (char& c : r) c = char(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-  return r;
-}
-
-std::string shown(std::string_view s) {
-  std::string r;
-  for (char c : s.substr(0, 40)) r += (c >= 32 && c < 127) ? c : '?';
-  return s.size() > 40 ? r + "..." : r;
 }
 
 }  // namespace
@@ -53,7 +35,7 @@ std::vector<ControlPoint> parseControlPoints(std::string_view text, const std::s
   while (pos <= text.size()) {
     size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
-    const std::string_view line = trim(text.substr(pos, end - pos));
+    const std::string_view line = trimField(text.substr(pos, end - pos));
     pos = end + 1;
     ++lineNo;
     if (line.empty() || line.front() == '#') {
@@ -62,12 +44,12 @@ std::vector<ControlPoint> parseControlPoints(std::string_view text, const std::s
     }
     const std::vector<std::string_view> fields = splitFields(line);
     if (column.empty()) {  // the header
-      for (size_t i = 0; i < fields.size(); ++i) column.emplace(lower(fields[i]), i);
+      for (size_t i = 0; i < fields.size(); ++i) column.emplace(asciiLower(fields[i]), i);
       for (const char* need : {"u", "v", "x", "y", "z"})
         if (!column.count(need))
           throw InputError(source + ": line " + std::to_string(lineNo) + ": the header has no column '" + need +
                            "' (expected a header naming u,v,x,y,z: pixel u, v with the top-left-corner origin, "
-                           "world x, y, z in the scene CRS; got '" + shown(line) + "')");
+                           "world x, y, z in the scene CRS; got '" + shownText(line) + "')");
       width = fields.size();
       if (end == text.size()) break;
       continue;
@@ -84,7 +66,7 @@ std::vector<ControlPoint> parseControlPoints(std::string_view text, const std::s
       const double v = copy.empty() ? 0.0 : std::strtod(copy.c_str(), &endp);
       if (copy.empty() || endp != copy.c_str() + copy.size() || !std::isfinite(v))
         throw InputError(source + ": line " + std::to_string(lineNo) + ": column '" + name +
-                         "': expected a finite number, got '" + shown(f) + "'");
+                         "': expected a finite number, got '" + shownText(f) + "'");
       return v;
     };
     ControlPoint p;

@@ -1,6 +1,7 @@
 #include "hv/traffic/trajectories.h"
 
 #include "hv/util/diagnostics.h"
+#include "hv/util/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,29 +14,10 @@ namespace {
 constexpr std::size_t kMaxRows = 50000000;
 constexpr double kPi = 3.14159265358979323846;
 
-std::string lower(std::string_view s) {
-  std::string r(s);
-  for (char& c : r) c = char(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-  return r;
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
-  return s;
-}
-
-std::string shown(std::string_view s) {
-  std::string r;
-  for (char c : s.substr(0, 40)) r += (c >= 32 && c < 127) ? c : '?';
-  return s.size() > 40 ? r + "..." : r;
-}
-
 }  // namespace
 
 VehicleSize vehicleSizeOf(const std::string& type, bool* known) {
-  const std::string t = lower(type);
+  const std::string t = asciiLower(type);
   // SUMO's defaults per vehicle class (sumo.dlr.de, "Vehicle Type Parameter Defaults"), rounded.
   struct Entry {
     const char* key;
@@ -106,7 +88,7 @@ Trajectories TrajectoryBuilder::finish(const std::string& source, Diagnostics& d
   }
   for (const auto& [type, count] : unknown)
     diag.warn(inputMessage(source, "type",
-                           "unknown vehicle type '" + shown(type) + "' (" + std::to_string(count) +
+                           "unknown vehicle type '" + shownText(type) + "' (" + std::to_string(count) +
                                " vehicles): drawn as the default car, 4.5 x 1.8 x 1.5 m"));
   out.vehicles = std::move(vehicles_);
   vehicles_.clear();
@@ -126,7 +108,7 @@ Trajectories parseTrajectoriesCsv(std::string_view text, const std::string& sour
   while (pos <= text.size()) {
     std::size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
-    const std::string_view line = trim(text.substr(pos, end - pos));
+    const std::string_view line = trimField(text.substr(pos, end - pos));
     pos = end + 1;
     ++lineNo;
     if (line.empty() || line.front() == '#') continue;
@@ -134,18 +116,18 @@ Trajectories parseTrajectoriesCsv(std::string_view text, const std::string& sour
     std::size_t start = 0;
     for (std::size_t i = 0; i <= line.size(); ++i)
       if (i == line.size() || line[i] == ',') {
-        fields.push_back(trim(line.substr(start, i - start)));
+        fields.push_back(trimField(line.substr(start, i - start)));
         start = i + 1;
       }
     const std::string where = source + ": line " + std::to_string(lineNo);
     if (column.empty()) {  // the header
-      for (std::size_t i = 0; i < fields.size(); ++i) column.emplace(lower(fields[i]), i);
+      for (std::size_t i = 0; i < fields.size(); ++i) column.emplace(asciiLower(fields[i]), i);
       for (const char* need : {"t", "id", "x", "y", "angle"})
         if (!column.count(need))
           throw InputError(where + ": the header has no column '" + need +
                            "' (expected a header naming t,id,x,y,angle,type: time in seconds, the vehicle's id, "
                            "its centre x, y, its heading in degrees clockwise from north; got '" +
-                           shown(line) + "')");
+                           shownText(line) + "')");
       width = fields.size();
       continue;
     }
@@ -159,7 +141,7 @@ Trajectories parseTrajectoriesCsv(std::string_view text, const std::string& sour
       char* endp = nullptr;
       const double v = copy.empty() ? 0.0 : std::strtod(copy.c_str(), &endp);
       if (copy.empty() || endp != copy.c_str() + copy.size() || !std::isfinite(v))
-        throw InputError(where + ": column '" + name + "': expected a finite number, got '" + shown(f) + "'");
+        throw InputError(where + ": column '" + name + "': expected a finite number, got '" + shownText(f) + "'");
       return v;
     };
     TrajectorySample s;

@@ -1,6 +1,7 @@
 #include "hv/io/native/sumo_fcd.h"
 
 #include "hv/util/input_file.h"
+#include "hv/util/text.h"
 
 #include <pugixml.hpp>
 
@@ -12,12 +13,6 @@ namespace hv {
 namespace {
 
 constexpr std::size_t kMaxRows = 50000000;
-
-std::string shown(std::string_view s) {
-  std::string r;
-  for (char c : s.substr(0, 40)) r += (c >= 32 && c < 127) ? c : '?';
-  return s.size() > 40 ? r + "..." : r;
-}
 
 // The 1-based line of a byte offset of the text.
 int lineOf(std::string_view text, std::ptrdiff_t offset) {
@@ -38,7 +33,7 @@ Trajectories parseSumoFcd(std::string_view xml, const std::string& source, Diagn
   if (!root) {
     const pugi::xml_node first = doc.first_child();
     throw InputError(source + ": expected SUMO floating car data (a root element <fcd-export>), got <" +
-                     shown(first ? first.name() : "") + ">");
+                     shownText(first ? first.name() : "") + ">");
   }
   TrajectoryBuilder builder;
   for (const pugi::xml_node step : root.children("timestep")) {
@@ -54,7 +49,7 @@ Trajectories parseSumoFcd(std::string_view xml, const std::string& source, Diagn
       char* end = nullptr;
       const double d = v.empty() ? 0.0 : std::strtod(v.c_str(), &end);
       if (v.empty() || end != v.c_str() + v.size() || !std::isfinite(d))
-        throw InputError(where() + ": expected a finite number, got '" + shown(v) + "'");
+        throw InputError(where() + ": expected a finite number, got '" + shownText(v) + "'");
       return d;
     };
     const double t = number(step, "time", "timestep");
