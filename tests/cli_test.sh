@@ -164,6 +164,13 @@ expect_out render-nothing "--views FILE, --camera ID or --eye"
 run fly-camera fly "$city/scene.json" --camera "$photo" --step-back 10 --fps 2 --out "$DIR/fcam" --size 96x72 --k 4
 expect_rc fly-camera 0
 check "fly --camera --step-back wrote frames (hold + step back at 2 fps)" test -s "$DIR/fcam/f00003.png"
+run flicker eval "$city/scene.json" --flicker "$DIR/fcam"
+expect_rc flicker 0
+expect_out flicker "flicker +[0-9.]+ luma levels .* consecutive frame pairs"
+mkdir -p "$DIR/noframes"
+run flicker-none eval "$city/scene.json" --flicker "$DIR/noframes"
+expect_rc "eval --flicker without frames" fail
+expect_out "eval --flicker without frames" "0 frame\\(s\\) f\\*.png"
 
 # --- eval: table with a mean row, JSON with the methods
 run eval eval "$city/scene.json" --views "$city/views.json" --truth "$city/truth" --method blend,nearest \
@@ -173,6 +180,11 @@ expect_out eval "mean"
 expect_out eval "nearest"
 expect_out eval "mean +blend +[0-9]"
 check "eval wrote e.json with \"methods\"" grep -q '"methods"' "$DIR/e.json"
+run eval-border eval "$city/scene.json" --views "$city/views.json" --truth "$city/truth" --k 4 --border-seams \
+  --json "$DIR/eb.json"
+expect_rc eval-border 0
+expect_out eval-border "PSNR dB +SSIM +coverage +scored +seam"
+check "eval --border-seams saved a seam per view" grep -q '"seam": -\?[0-9]' "$DIR/eb.json"
 
 # One view whose truth cannot be read (a symlink loop) is that view's alone: the others are scored,
 # the status says a view asked for was not produced (1).

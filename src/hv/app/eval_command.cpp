@@ -3,6 +3,7 @@
 #include "hv/session/session.h"
 #include "hv/session/outputs.h"
 #include "hv/eval/evaluate.h"
+#include "hv/eval/metrics.h"
 #include "hv/eval/seams.h"
 #include "hv/image/image.h"
 #include "hv/io/native/scene_loader.h"
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -24,6 +26,8 @@ struct EvalCommandOptions {
   std::vector<std::string> methods{"blend"};
   std::string json;
   bool leaveOneOut = false;
+  bool borderSeams = false;
+  std::string flicker;  // a directory of fly frames
   std::vector<std::string> seams;  // panorama ids: the photographs whose id ends with one form its rig
   std::vector<double> seamRadii{10.0, 30.0, 1000.0};
 };
@@ -62,7 +66,32 @@ int runSeams(const EvalCommandOptions& o) {
   return exitStatus(diag, all.empty() ? 1 : 0);
 }
 
+// eval --flicker DIR: the temporal flicker of the frames `fly` wrote to DIR (f00000.png, ...), in
+// their order: the mean absolute luma difference of consecutive frames (hv/eval/metrics.h).
+int runFlicker(const EvalCommandOptions& o) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(o.flicker)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file() && name.size() > 5 && name[0] == 'f' && name.ends_with(".png")) files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.size() < 2)
+    throw std::invalid_argument("eval --flicker " + o.flicker + ": " + std::to_string(files.size()) +
+                                " frame(s) f*.png there; fly --out writes them, and flicker needs 2 or more");
+  std::vector<Image8> frames;
+  for (const auto& f : files) frames.push_back(readImage(f.string(), 3));
+  const double d = eval::meanFrameDifference(frames);
+  std::cout << "flicker  " << d << " luma levels (0-255): mean absolute difference of " << frames.size() - 1
+            << " consecutive frame pairs in " << o.flicker << "\n";
+  return 0;
+}
+
 int runEval(const EvalCommandOptions& o) {
+  if (!o.flicker.empty()) {
+    if (o.leaveOneOut || !o.view.viewsPath.empty() || !o.seams.empty())
+      throw std::invalid_argument("eval: --flicker takes neither --views, --leave-one-out nor --seams");
+    return runFlicker(o);
+  }
   if (!o.seams.empty()) {
     if (o.leaveOneOut || !o.view.viewsPath.empty())
       throw std::invalid_argument("eval: --seams takes neither --views nor --leave-one-out");
@@ -83,6 +112,7 @@ int runEval(const EvalCommandOptions& o) {
   eval::EvalOptions opt;
   opt.truthDir = o.truth;
   opt.leaveOneOut = o.leaveOneOut;
+  opt.borderSeams = o.borderSeams;
   // The truth images are named as `render` names its outputs.
   auto names = std::make_shared<OutputNames>();
   opt.truthStem = [names](const std::string& id) { return names->stem(id); };
@@ -122,6 +152,13 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::ExistingDirectory);
   cmd->add_flag("--leave-one-out", o->leaveOneOut,
                 "score each photograph rendered from the other photographs (instead of --views/--truth)");
+  cmd->add_flag("--border-seams", o->borderSeams,
+                "also measure the seams at photograph borders: the mean luma step across them, render minus "
+                "truth (one more render per view, without feathering, finds the borders)");
+  cmd->add_option("--flicker", o->flicker,
+                  "instead of rendering, measure the temporal flicker of the frames fly wrote to this directory "
+                  "(mean absolute luma difference of consecutive frames)")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--seams", o->seams,
                   "measure the seams between the overlapping cameras of these panoramas (photographs whose id "
                   "ends with a given id; comma separated) on the background sphere, instead of rendering")

@@ -89,10 +89,18 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
         renderer.settings().blend.exclude = saved.blend.exclude;
         renderer.settings().blend.exclude.push_back(id);
       }
+      // The traffic's vehicles are no error of a method: the truth is the empty street.
+      renderer.settings().traffic.enabled = false;
+      Image16 borderCounts;
+      if (opt.borderSeams) {
+        applyMethod(opt.methods.empty() ? Method::Blend : opt.methods.front(), renderer.settings());
+        const double feather = renderer.settings().blend.featherPx;
+        renderer.settings().blend.featherPx = 0.0;
+        borderCounts = renderer.render(cam, true).counts;
+        renderer.settings().blend.featherPx = feather;
+      }
       for (Method m : opt.methods) {
         applyMethod(m, renderer.settings());
-        // The truth is the empty street: a simulation's vehicles are no error of the method.
-        renderer.settings().traffic.enabled = false;
         render::RenderOutput out = renderer.render(cam);
         size_t covered = 0;
         for (size_t i = 0; i < n; ++i) {
@@ -108,7 +116,9 @@ EvalReport evaluate(render::Renderer& renderer, const std::vector<Photo>& views,
       line << "[" << index << "/" << views.size() << "] " << id;
       for (size_t k = 0; k < opt.methods.size(); ++k) {
         const Scores s = compareImages(renders[k], truth, scored);
-        report.rows.push_back({id, methodName(opt.methods[k]), s.psnr, s.ssim, coverage[k], scoredFraction});
+        ViewScore row{id, methodName(opt.methods[k]), s.psnr, s.ssim, coverage[k], scoredFraction};
+        if (opt.borderSeams) row.seam = eval::borderSeams(renders[k], truth, borderCounts, scored).excess;
+        report.rows.push_back(row);
         line << "  " << methodName(opt.methods[k]) << " " << s.psnr << " dB";
       }
       if (progress) progress(line.str());

@@ -32,6 +32,10 @@ struct EvalOptions {
   // "../x" never names a file outside truthDir). Unset: the id itself, refused when it is not a
   // plain file name.
   std::function<std::string(const std::string& id)> truthStem;
+  // The seam metric (metrics.h, borderSeams): each view is rendered once more without feathering
+  // and with its contributing-image counts, whose changes between neighbouring pixels are the
+  // photograph borders every method is measured at (the same pixels whatever the feather width).
+  bool borderSeams = false;
 };
 
 // Renders and scores every view. A view whose truth is missing or unreadable is reported in

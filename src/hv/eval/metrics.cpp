@@ -191,3 +191,65 @@ Scores compareImages(const Image8& a, const Image8& b, const std::vector<std::ui
 }
 
 }  // namespace hv::eval
+
+namespace hv::eval {
+
+BorderSeams borderSeams(const Image8& render, const Image8& truth, const Image16& counts,
+                        const std::vector<std::uint8_t>& scored) {
+  const int w = render.width, h = render.height;
+  const std::size_t n = std::size_t(w) * std::size_t(h);
+  if (truth.width != w || truth.height != h || counts.width != w || counts.height != h || scored.size() != n ||
+      counts.channels < 1)
+    throw std::invalid_argument("borderSeams: the render (" + std::to_string(w) + "x" + std::to_string(h) +
+                                "), truth (" + std::to_string(truth.width) + "x" + std::to_string(truth.height) +
+                                "), counts (" + std::to_string(counts.width) + "x" + std::to_string(counts.height) +
+                                ") and scored mask (" + std::to_string(scored.size()) + " bytes) differ in size");
+  const std::vector<double> lr = luma(render), lt = luma(truth);
+  auto count = [&](std::size_t i) { return counts.data[i * std::size_t(counts.channels)]; };
+  BorderSeams out;
+  double sumR = 0.0, sumT = 0.0;
+  auto pair = [&](std::size_t p, std::size_t q) {
+    if (!scored[p] || !scored[q] || count(p) == count(q)) return;
+    sumR += std::abs(lr[p] - lr[q]);
+    sumT += std::abs(lt[p] - lt[q]);
+    ++out.pairs;
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+      if (x + 1 < w) pair(p, p + 1);
+      if (y + 1 < h) pair(p, p + std::size_t(w));
+    }
+  if (out.pairs == 0) {
+    out.renderStep = out.truthStep = out.excess = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  }
+  out.renderStep = sumR / double(out.pairs);
+  out.truthStep = sumT / double(out.pairs);
+  out.excess = out.renderStep - out.truthStep;
+  return out;
+}
+
+double meanFrameDifference(const std::vector<Image8>& frames) {
+  double sum = 0.0;
+  std::size_t pixels = 0;
+  for (std::size_t k = 1; k < frames.size(); ++k) {
+    const Image8& a = frames[k - 1];
+    const Image8& b = frames[k];
+    if (a.width != b.width || a.height != b.height)
+      throw std::invalid_argument("meanFrameDifference: frame " + std::to_string(k) + " is " +
+                                  std::to_string(b.width) + "x" + std::to_string(b.height) + ", frame " +
+                                  std::to_string(k - 1) + " " + std::to_string(a.width) + "x" +
+                                  std::to_string(a.height));
+    const std::vector<double> la = luma(a), lb = luma(b);
+    for (std::size_t i = 0; i < la.size(); ++i) {
+      const bool covered = (a.channels < 4 || a.data[4 * i + 3] > 0) && (b.channels < 4 || b.data[4 * i + 3] > 0);
+      if (!covered) continue;
+      sum += std::abs(la[i] - lb[i]);
+      ++pixels;
+    }
+  }
+  return pixels > 0 ? sum / double(pixels) : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace hv::eval

@@ -53,3 +53,27 @@ std::vector<double> ssimMap(const std::vector<double>& lumaA, const std::vector<
 std::size_t countScored(const std::vector<std::uint8_t>& scored);
 
 }  // namespace hv::eval
+
+namespace hv::eval {
+
+// The seam metric: how much sharper the render is than the truth across photograph borders.
+// A border is a pair of 4-neighbour pixels, both scored, whose numbers of contributing photographs
+// (`counts`, RenderOutput::counts) differ: a photograph's frame, lens domain, mask or occlusion edge
+// lies between them. Across each pair, the luma step |L(p) - L(q)| of the render and of the truth;
+// `excess` is the mean render step minus the mean truth step, in luma levels (0-255): positive where
+// the render shows lines the truth does not have, about 0 when the borders are invisible. Take
+// `counts` from one render (e.g. without feathering) to compare settings on the same pixels.
+struct BorderSeams {
+  double renderStep = 0.0, truthStep = 0.0, excess = 0.0;  // NaN when there is no border pair
+  std::size_t pairs = 0;
+};
+BorderSeams borderSeams(const Image8& render, const Image8& truth, const Image16& counts,
+                        const std::vector<std::uint8_t>& scored);
+
+// Temporal flicker of a frame sequence: the mean absolute luma difference (0-255) between
+// consecutive frames, over the pixels both frames cover (alpha > 0; RGB frames: every pixel).
+// NaN for fewer than two frames or nothing covered. On a static scene with a slowly moving camera,
+// the part of it that a setting changes is shimmer (aliasing), the rest is the motion.
+double meanFrameDifference(const std::vector<Image8>& frames);
+
+}  // namespace hv::eval

@@ -309,5 +309,61 @@ TEST(Metrics, HdFrameIsFast) {
   EXPECT_LT(ms, 5000.0);
 }
 
+// A grey pixel's luma is its value (0.299 + 0.587 + 0.114 = 1).
+Image8 greyRow(const std::vector<int>& values, int width, int channels = 3) {
+  Image8 im(width, int(values.size()) / width, channels, 255);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    for (int c = 0; c < 3; ++c) im.data[i * std::size_t(channels) + std::size_t(c)] = std::uint8_t(values[i]);
+  return im;
+}
+
+Image16 countsOf(const std::vector<int>& values, int width) {
+  Image16 im(width, int(values.size()) / width, 1, 0);
+  for (std::size_t i = 0; i < values.size(); ++i) im.data[i] = std::uint16_t(values[i]);
+  return im;
+}
+
+TEST(BorderSeams, StepsAcrossPairsWhoseCountsDiffer) {
+  // 3 x 2: count borders between columns 0|1 (both rows) and between rows in column 2.
+  //   render        truth         counts
+  //   0  100 100    0  50 100     1 2 2
+  //   0  100  40    0  50  90     1 2 3
+  const Image8 render = greyRow({0, 100, 100, 0, 100, 40}, 3), truth = greyRow({0, 50, 100, 0, 50, 90}, 3);
+  const Image16 counts = countsOf({1, 2, 2, 1, 2, 3}, 3);
+  const std::vector<std::uint8_t> all(6, 1);
+  // Pairs: (0,1) r 100 t 50; (3,4) r 100 t 50; (4,5) r 60 t 40; (2,5) r 60 t 10.
+  const BorderSeams s = borderSeams(render, truth, counts, all);
+  EXPECT_EQ(s.pairs, 4u);
+  EXPECT_NEAR(s.renderStep, (100 + 100 + 60 + 60) / 4.0, 1e-9);
+  EXPECT_NEAR(s.truthStep, (50 + 50 + 40 + 10) / 4.0, 1e-9);
+  EXPECT_NEAR(s.excess, s.renderStep - s.truthStep, 1e-12);
+  // A pixel left unscored takes its pairs out: without pixel 5, only the two column pairs remain.
+  std::vector<std::uint8_t> some = all;
+  some[5] = 0;
+  const BorderSeams t = borderSeams(render, truth, counts, some);
+  EXPECT_EQ(t.pairs, 2u);
+  EXPECT_NEAR(t.excess, 50.0, 1e-9);
+}
+
+TEST(BorderSeams, NoBorderIsNaNAndSizesAreChecked) {
+  const Image8 a = greyRow({10, 20, 30, 40}, 2);
+  const BorderSeams s = borderSeams(a, a, countsOf({2, 2, 2, 2}, 2), std::vector<std::uint8_t>(4, 1));
+  EXPECT_EQ(s.pairs, 0u);
+  EXPECT_TRUE(std::isnan(s.excess));
+  EXPECT_THROW(borderSeams(a, a, countsOf({2, 2}, 2), std::vector<std::uint8_t>(4, 1)), std::invalid_argument);
+}
+
+TEST(FrameDifference, MeanOverPixelsBothFramesCover) {
+  // RGBA frames, 2 x 1. Frame 1's second pixel is uncovered: that pair counts pixel 0 only.
+  Image8 f0 = greyRow({10, 20}, 2, 4), f1 = greyRow({30, 99}, 2, 4), f2 = greyRow({30, 26}, 2, 4);
+  f1.data[7] = 0;
+  // Pair (0,1): |10 - 30| = 20 (one pixel). Pair (1,2): pixel 0: 0; pixel 1 uncovered in f1.
+  EXPECT_NEAR(meanFrameDifference({f0, f1, f2}), (20.0 + 0.0) / 2.0, 1e-9);
+  // RGB frames cover every pixel: |10-30| + |20-26| over 2.
+  EXPECT_NEAR(meanFrameDifference({greyRow({10, 20}, 2), greyRow({30, 26}, 2)}), 13.0, 1e-9);
+  EXPECT_TRUE(std::isnan(meanFrameDifference({f0})));
+  EXPECT_THROW(meanFrameDifference({f0, greyRow({1, 2, 3}, 3, 4)}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace hv::eval

@@ -54,8 +54,8 @@ std::vector<std::string> orderedMethods(const EvalReport& report) {
 
 std::map<std::string, MethodMean> methodMeans(const EvalReport& report) {
   struct Sums {
-    double psnr = 0, ssim = 0, coverage = 0, scored = 0;
-    std::size_t finitePsnr = 0, ssimCount = 0;
+    double psnr = 0, ssim = 0, coverage = 0, scored = 0, seam = 0;
+    std::size_t finitePsnr = 0, ssimCount = 0, seamCount = 0;
   };
   std::map<std::string, MethodMean> means;
   std::map<std::string, Sums> sums;
@@ -69,6 +69,10 @@ std::map<std::string, MethodMean> methodMeans(const EvalReport& report) {
     ++mm.views;
     s.coverage += r.coverage;
     s.scored += r.scoredFraction;
+    if (std::isfinite(r.seam)) {
+      s.seam += r.seam;
+      ++s.seamCount;
+    }
     if (std::isnan(r.psnr) || std::isnan(r.ssim)) {
       ++mm.unscored;
       continue;
@@ -91,6 +95,7 @@ std::map<std::string, MethodMean> methodMeans(const EvalReport& report) {
     mm.ssim = s.ssimCount > 0 ? s.ssim / double(s.ssimCount) : kNaN;
     mm.coverage = mm.views > 0 ? s.coverage / double(mm.views) : kNaN;
     mm.scored = mm.views > 0 ? s.scored / double(mm.views) : kNaN;
+    mm.seam = s.seamCount > 0 ? s.seam / double(s.seamCount) : kNaN;
   }
   return means;
 }
@@ -105,23 +110,26 @@ std::string formatTable(const EvalReport& report) {
   const std::vector<std::string> methods = orderedMethods(report);
   const auto means = methodMeans(report);
 
+  // The seam column only when some row was measured (eval --border-seams).
+  const bool seams = std::any_of(report.rows.begin(), report.rows.end(),
+                                 [](const ViewScore& r) { return !std::isnan(r.seam); });
   struct Line {
-    std::string view, method, psnr, ssim, coverage, scored;
+    std::string view, method, psnr, ssim, coverage, scored, seam;
   };
   std::vector<Line> lines;
   for (const auto& r : report.rows)
     lines.push_back({r.view, r.method, fixed(r.psnr, 2), fixed(r.ssim, 4), percent(r.coverage),
-                     percent(r.scoredFraction)});
+                     percent(r.scoredFraction), fixed(r.seam, 2)});
   const std::size_t viewLines = lines.size();
   for (const auto& m : methods) {
     const MethodMean& mm = means.at(m);
-    lines.push_back(
-        {"mean", m, fixed(mm.psnr, 2), fixed(mm.ssim, 4), percent(mm.coverage), percent(mm.scored)});
+    lines.push_back({"mean", m, fixed(mm.psnr, 2), fixed(mm.ssim, 4), percent(mm.coverage), percent(mm.scored),
+                     fixed(mm.seam, 2)});
   }
 
-  const Line header{"view", "method", "PSNR dB", "SSIM", "coverage", "scored"};
-  std::size_t w[6] = {header.view.size(), header.method.size(), header.psnr.size(),
-                      header.ssim.size(), header.coverage.size(), header.scored.size()};
+  const Line header{"view", "method", "PSNR dB", "SSIM", "coverage", "scored", "seam"};
+  std::size_t w[7] = {header.view.size(),     header.method.size(), header.psnr.size(), header.ssim.size(),
+                      header.coverage.size(), header.scored.size(), header.seam.size()};
   for (const auto& l : lines) {
     w[0] = std::max(w[0], l.view.size());
     w[1] = std::max(w[1], l.method.size());
@@ -129,16 +137,18 @@ std::string formatTable(const EvalReport& report) {
     w[3] = std::max(w[3], l.ssim.size());
     w[4] = std::max(w[4], l.coverage.size());
     w[5] = std::max(w[5], l.scored.size());
+    w[6] = std::max(w[6], l.seam.size());
   }
   // Names left-aligned, numbers right-aligned (decimal points line up), two spaces between columns.
   auto render = [&](const Line& l) {
     std::string s = padRight(l.view, w[0]) + "  " + padRight(l.method, w[1]) + "  " + padLeft(l.psnr, w[2]) +
                     "  " + padLeft(l.ssim, w[3]) + "  " + padLeft(l.coverage, w[4]) + "  " +
                     padLeft(l.scored, w[5]);
+    if (seams) s += "  " + padLeft(l.seam, w[6]);
     s.erase(s.find_last_not_of(' ') + 1);
     return s + "\n";
   };
-  const std::size_t total = w[0] + w[1] + w[2] + w[3] + w[4] + w[5] + 10;
+  const std::size_t total = w[0] + w[1] + w[2] + w[3] + w[4] + w[5] + 10 + (seams ? w[6] + 2 : 0);
 
   std::string out = render(header) + std::string(total, '-') + "\n";
   for (std::size_t i = 0; i < viewLines; ++i) out += render(lines[i]);
@@ -168,13 +178,15 @@ nlohmann::json toJson(const EvalReport& report) {
                           {"psnr", number(r.psnr)},
                           {"ssim", number(r.ssim)},
                           {"coverage", number(r.coverage)},
-                          {"scored", number(r.scoredFraction)}});
+                          {"scored", number(r.scoredFraction)},
+                          {"seam", number(r.seam)}});
   j["mean"] = nlohmann::json::object();
   for (const auto& [name, mm] : methodMeans(report))
     j["mean"][name] = {{"psnr", number(mm.psnr)},
                        {"ssim", number(mm.ssim)},
                        {"coverage", number(mm.coverage)},
                        {"scored", number(mm.scored)},
+                       {"seam", number(mm.seam)},
                        {"views", mm.views},
                        {"infinite_psnr", mm.infinitePsnr},
                        {"unscored", mm.unscored}};

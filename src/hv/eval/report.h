@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct ViewScore {
   double psnr = 0.0, ssim = 0.0;
   double coverage = 0.0;        // fraction of the view's pixels this method covers
   double scoredFraction = 0.0;  // fraction scored (covered by every compared method and by the truth)
+  // eval --border-seams: mean luma step across photograph borders, render minus truth (metrics.h,
+  // borderSeams); NaN when not measured or when the view has no border.
+  double seam = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct EvalReport {
@@ -38,6 +42,7 @@ struct MethodMean {
   double ssim = 0.0;      // mean of the per-view SSIMs
   double coverage = 0.0;  // mean over all the method's views
   double scored = 0.0;    // mean scored fraction over all the method's views
+  double seam = 0.0;      // mean of the finite per-view seams; NaN when none was measured
   std::size_t views = 0;         // rows of this method
   std::size_t infinitePsnr = 0;  // views left out of the PSNR mean because identical
   std::size_t unscored = 0;      // views with nothing scored, left out of the PSNR and SSIM means
@@ -49,13 +54,13 @@ std::vector<std::string> orderedMethods(const EvalReport& report);
 std::map<std::string, MethodMean> methodMeans(const EvalReport& report);
 std::map<std::string, double> meanPsnr(const EvalReport& report);  // per method, as methodMeans().psnr
 
-// One line per row (PSNR in dB with 2 decimals, SSIM with 4, coverage and scored in %), then a "mean"
-// line per method, and a note per method with infinite or unscored views. Columns aligned; ends with '\n'.
+// One line per row (PSNR in dB with 2 decimals, SSIM with 4, coverage and scored in %, and the seam
+// with 2 when some row has one), then a "mean" line per method, and a note per method with infinite or unscored views. Columns aligned; ends with '\n'.
 std::string formatTable(const EvalReport& report);
 
 // {"methods": [...],
-//  "views": [{"view", "method", "psnr", "ssim", "coverage", "scored"}, ...],
-//  "mean": {method: {"psnr", "ssim", "coverage", "scored", "views", "infinite_psnr", "unscored"}}}
+//  "views": [{"view", "method", "psnr", "ssim", "coverage", "scored", "seam"}, ...],
+//  "mean": {method: {"psnr", "ssim", "coverage", "scored", "seam", "views", "infinite_psnr", "unscored"}}}
 // with PSNR +infinity as "inf" and NaN as null.
 nlohmann::json toJson(const EvalReport& report);
 

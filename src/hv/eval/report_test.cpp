@@ -137,5 +137,24 @@ TEST(Report, MethodsOnlyInRowsAreIncluded) {
   EXPECT_NE(formatTable(r).find("no-occlusion"), std::string::npos);
 }
 
+TEST(Report, SeamColumnOnlyWhenMeasured) {
+  EvalReport r = sampleReport();
+  EXPECT_EQ(formatTable(r).find("seam"), std::string::npos);
+  EXPECT_TRUE(toJson(r)["views"][0]["seam"].is_null());
+  // Seams on blend's rows only (one view without a border): the mean is over the measured ones.
+  r.rows[0].seam = 3.0;
+  r.rows[2].seam = 5.5;
+  const std::string table = formatTable(r);
+  EXPECT_NE(table.find("seam"), std::string::npos) << table;
+  EXPECT_NE(table.find("4.25"), std::string::npos) << table;  // blend's mean seam
+  const MethodMean blend = methodMeans(r).at("blend");
+  EXPECT_DOUBLE_EQ(blend.seam, 4.25);
+  EXPECT_TRUE(std::isnan(methodMeans(r).at("nearest").seam));
+  const nlohmann::json j = toJson(r);
+  EXPECT_DOUBLE_EQ(j["views"][0]["seam"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["mean"]["blend"]["seam"].get<double>(), 4.25);
+  EXPECT_TRUE(j["mean"]["nearest"]["seam"].is_null());
+}
+
 }  // namespace
 }  // namespace hv::eval
