@@ -201,6 +201,7 @@ hv::Camera streetView(int rows, double x) {
 hv::render::RenderSettings streetSettings() {
   hv::render::RenderSettings s;
   s.blend.sigma = 100.0;  // near-uniform weights: every selected image contributes where it sees
+  s.blend.featherPx = 0.0;  // the papers' blend, the one the naive binding has
   s.depthSize = kDepthSize;
   s.maxSlices = kMaxSlices;
   return s;

@@ -128,6 +128,7 @@ TEST_F(DebugViewGlTest, WeightViewMatchesCpuReferenceShares) {
   settings.blend.k = 3;
   settings.blend.sigma = 5.0;
   settings.blend.occlusion = false;
+  settings.blend.featherPx = 0.0;  // the CPU shares below are the papers' eq. 2, hard-edged
   settings.depthSize = 256;
   Renderer renderer(scene, settings, diag);
   const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);

@@ -142,6 +142,7 @@ TEST_F(DemoCityGlTest, NaiveBindingGivesTheSamePictureAsTextureArrays) {
   Diagnostics diag;
   RenderSettings s;
   s.blend.k = 8;
+  s.blend.featherPx = 0.0;  // the papers' blend, which is what the naive binding has
   Renderer arrays(city.scene, s, diag);
   s.binding = Binding::Naive;
   Renderer naive(city.scene, s, diag);
@@ -157,6 +158,17 @@ TEST_F(DemoCityGlTest, NaiveBindingGivesTheSamePictureAsTextureArrays) {
     for (size_t i = 0; i < covered.size(); ++i) EXPECT_EQ(n.rgba.data[4 * i + 3], a.rgba.data[4 * i + 3]);
   }
   EXPECT_TRUE(diag.ok());
+  EXPECT_TRUE(diag.warnings.empty());
+  // With what the naive shader does not have (feathering, the default), it says so, once, and
+  // renders the papers' blend: the same picture as above.
+  naive.settings().blend.featherPx = 4.0;
+  const RenderOutput n1 = naive.render(city.views[0].camera), n2 = naive.render(city.views[1].camera);
+  ASSERT_EQ(diag.warnings.size(), 1u);
+  EXPECT_NE(diag.warnings[0].find("--binding naive"), std::string::npos) << diag.warnings[0];
+  EXPECT_NE(diag.warnings[0].find("--feather"), std::string::npos) << diag.warnings[0];
+  naive.settings().blend.featherPx = 0.0;
+  EXPECT_EQ(naive.render(city.views[0].camera).rgba.data, n1.rgba.data);
+  EXPECT_FALSE(n2.rgba.data.empty());
 }
 
 TEST_F(DemoCityGlTest, BlendBeatsTheBaselinesOnHeldOutViews) {

@@ -165,6 +165,25 @@ ibr::BlendSettings FrameBuilder::frameBlendSettings() {
     }
     blend.k = slots;
   }
+  // The naive binding is the papers' blend with a sampler pair per image (the baseline of de Castro
+  // & Brédif 2022's texture arrays): what goes beyond the papers is not in its shader.
+  if (naive()) {
+    std::vector<std::string> off;
+    if (blend.featherPx > 0.0) off.push_back("--feather");
+    if (blend.weighting == ibr::Weighting::Geometry) off.push_back("--weights geometry");
+    if (blend.mipmaps) off.push_back("--mipmaps");
+    if (blend.consensus > 0.0) off.push_back("--consensus");
+    if (!off.empty() && !warnedNaive_) {
+      std::string list;
+      for (const auto& o : off) list += (list.empty() ? "" : ", ") + o;
+      diag_.warn("--binding naive blends as the papers do: " + list + " not applied (--binding array applies them)");
+      warnedNaive_ = true;
+    }
+    blend.featherPx = 0.0;
+    blend.weighting = ibr::Weighting::Distance;
+    blend.mipmaps = false;
+    blend.consensus = 0.0;
+  }
   // Region selection: the candidates are what is resident, so the slots bound them (and K stays
   // the most images blended at one pixel).
   if (blend.selection == ibr::Selection::Region || blend.weighting == ibr::Weighting::Geometry)

@@ -123,7 +123,7 @@ class FrameBuilder {
   // The points (uploaded on first use).
   bool pointsTried_ = false, pointsOn_ = false;
   bool classify_ = false, epsilonTest_ = false, pointsInDepthMaps_ = false;
-  bool warnedPointClasses_ = false, warnedMat3_ = false, warnedK_ = false;
+  bool warnedPointClasses_ = false, warnedMat3_ = false, warnedK_ = false, warnedNaive_ = false;
   std::string slotBound_;  // what bounds layout_.slots, in words (allocateSlots)
   int mat3K_ = 0;
   std::vector<double> chunkSpacing_;  // mean point spacing of each chunk, scene units
