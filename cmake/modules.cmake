@@ -102,7 +102,7 @@ function(hv_define_modules)
   hv_module(viewer PORTABLE DIRS viewer DEPS camera PRIVATE_DEPS scene)
   hv_module(pose PORTABLE DIRS pose DEPS camera util EXTERNAL glm PRIVATE_EXTERNAL eigen)
   # Layered projective texture maps (2003): visibility layers, image-layer clustering, sub-image frusta.
-  hv_module(layers PORTABLE DIRS layers DEPS camera EXTERNAL glm)
+  hv_module(layers PORTABLE DIRS layers DEPS camera image EXTERNAL glm)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
   hv_module(scene_native DIRS scene/native DEPS scene util PRIVATE_EXTERNAL geos embree)

@@ -92,13 +92,21 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
     const ImageParams& im = images[i];
     const auto hit = projectIntoImage(im, P);
     if (!hit) continue;
-    if (visible && !visible(i, P, hit->depth)) continue;
+    const bool layered = i < opt.layered.size() && opt.layered[i];
     const glm::dvec2 uv = hit->pxDistorted * im.layout.uvScale;
-    const glm::dvec4 texel = correctTexel(im.colour, texture(im.layout.slice, uv));
+    glm::dvec4 texel(0.0);
+    if (layered) {
+      const std::optional<glm::dvec4> t = opt.layered[i](P);
+      if (!t) continue;
+      texel = correctTexel(im.colour, *t);
+    } else {
+      if (visible && !visible(i, P, hit->depth)) continue;
+      texel = correctTexel(im.colour, texture(im.layout.slice, uv));
+    }
     if (texel.a <= 0.0) continue;
     if (opt.featherPx > 0.0) {
       feather[i] = featherFactor(borderDistance(im, *hit), opt.featherPx);
-      if (opt.mask)
+      if (opt.mask && !layered)
         feather[i] *= maskFeather(opt.mask(im.layout.slice, uv, featherLevel(im, opt.featherPx, opt.sliceWidth)));
     }
     if (geometry && method != BlendMethod::Nearest) {

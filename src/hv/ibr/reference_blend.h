@@ -7,6 +7,7 @@
 #include "hv/image/image.h"
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace hv::ibr {
@@ -54,6 +55,12 @@ struct BlendOptions {
   // Feathering toward mask edges: the mask averaged over the feather width; null: none.
   MaskLookup mask;
   int sliceWidth = 1;  // texels, to turn the feather width into a mip level
+  // Layered photographs (Layered projective texture maps, 2003, §5; hv/layers/layered_texture.h):
+  // per image, empty for a photograph as it is; otherwise what its edited layers give at the point
+  // (render frame), premultiplied, nullopt where no sub-image textures it. It stands for the
+  // photograph's shadow test, texture lookup and mask (the sub-images' own depth test and alpha);
+  // the projection, the image bounds, the colour correction and the weight stay the photograph's.
+  std::vector<std::function<std::optional<glm::dvec4>(const glm::dvec3& pointRender)>> layered;
 };
 
 // Distance, in photograph pixels, of a projection to the photograph's border and (distorted

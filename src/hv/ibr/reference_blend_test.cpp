@@ -113,6 +113,65 @@ TEST(Feathering, BorderDistanceAndWeights) {
   EXPECT_EQ(featherLevel(images[0], 0.5, 160), 0.0);
 }
 
+// A layered photograph (Layered projective texture maps, 2003, §5): its edited layers stand for its
+// shadow test, texture and mask; its weight and bounds stay.
+TEST(LayeredBlend, EditedLayersStandForThePhotograph) {
+  PinholeFrustum fr;
+  fr.pxMax = {160, 120};
+  const std::vector<ImageParams> images = {
+      makeImageParams(look("layered", {0, 0, 10}, {0, 0, 0}), {0, 0, 0}, {0, {1.0 / 160, 1.0 / 120}}, 1.0, fr, {}),
+      makeImageParams(look("plain", {-7, 0, 10}, {-7, 0, 0}), {0, 0, 0}, {1, {1.0 / 160, 1.0 / 120}}, 1.0, fr, {})};
+  const glm::dvec3 P{-3, 0, 0};
+  const glm::dvec4 colour[2] = {{1, 0, 0, 1}, {0, 1, 0, 1}};
+  const TextureLookup tex = [&](int slice, glm::dvec2) { return colour[slice]; };
+  // The photograph's own shadow test says image 0 does not see P: the layers decide instead.
+  const VisibilityTest hidden = [](size_t i, const glm::dvec3&, double) { return i != 0; };
+  std::optional<glm::dvec4> layer = glm::dvec4(0, 0, 1, 1);
+  BlendOptions opt;
+  opt.layered = {[&](const glm::dvec3& at) {
+    EXPECT_EQ(at, P);
+    return layer;
+  }};
+  const auto blend = [&](BlendMethod m) {
+    return referenceBlend(P, images, m, tex, hidden, Selection::Global, 2, opt);
+  };
+  // Equal weights: the painted blue and the other photograph's green, half each.
+  BlendResult r = blend(BlendMethod::Blend);
+  EXPECT_EQ(r.count, 2);
+  EXPECT_NEAR(r.color.b, 0.5, 1e-12);
+  EXPECT_NEAR(r.color.g, 0.5, 1e-12);
+  EXPECT_NEAR(r.color.r, 0.0, 1e-12);
+  // Half transparent (premultiplied 0.5 blue, alpha 0.5): weight 1 * 0.5 against 1.
+  layer = glm::dvec4(0, 0, 0.5, 0.5);
+  r = blend(BlendMethod::Blend);
+  EXPECT_NEAR(r.color.b, 0.5 / 1.5, 1e-12);
+  EXPECT_NEAR(r.color.g, 1.0 / 1.5, 1e-12);
+  EXPECT_NEAR(r.share(0), 0.5 / 1.5, 1e-12);
+  // No sub-image textures P: the photograph adds nothing, whatever its own test says.
+  layer = std::nullopt;
+  r = blend(BlendMethod::Blend);
+  EXPECT_EQ(r.count, 1);
+  EXPECT_EQ(r.contribution[0], 0.0);
+  EXPECT_NEAR(r.color.g, 1.0, 1e-12);
+  r = blend(BlendMethod::Nearest);
+  EXPECT_EQ(r.contribution[1], 1.0);
+  layer = glm::dvec4(0, 0, 1, 1);
+  EXPECT_NEAR(blend(BlendMethod::Nearest).color.b, 1.0, 1e-12);
+  // The colour correction applies to the layers as to the photograph: gain 0.5 on blue.
+  std::vector<ImageParams> corrected = images;
+  corrected[0].colour.gain = {1.0, 1.0, 0.5};
+  r = referenceBlend(P, corrected, BlendMethod::Blend, tex, hidden, Selection::Global, 2, opt);
+  EXPECT_NEAR(r.color.b, 0.25, 1e-12);
+  // Out of the photograph's bounds its layers are not asked.
+  bool asked = false;
+  opt.layered = {[&](const glm::dvec3&) {
+    asked = true;
+    return layer;
+  }};
+  referenceBlend({-30, 0, 0}, images, BlendMethod::Blend, tex, hidden, Selection::Global, 2, opt);
+  EXPECT_FALSE(asked);
+}
+
 TEST(SliceMipChain, BoxFilteredLevelsDownToOneTexel) {
   Image8 img(5, 3, 4, 0);
   for (int y = 0; y < 3; ++y)

@@ -107,4 +107,27 @@ LayerTextureMemory layerTextureMemory(const std::vector<int>& visibilityLayerOfS
   return m;
 }
 
+LayeredPhotograph layeredPhotograph(const Scene& scene, std::size_t photo, const ImportedLayers& layers,
+                                    const LayerExportSettings& settings, Diagnostics& diag) {
+  LayerExportSettings s = settings;
+  s.width = layers.fileWidth;
+  s.height = layers.fileHeight;
+  s.prefill = false;
+  Diagnostics quiet;  // the export's own notes (cycles) were given when the file was made
+  const LayerExport ex = exportLayers(scene, photo, s, quiet);
+  LayeredPhotograph out;
+  out.camera = scene.photos.at(photo).camera;
+  const int depth = int(ex.visibility.layers.size());
+  for (int k = 1; k <= depth; ++k) out.depthMaps.push_back(peeledDepthMap(ex.hits, ex.visibility, k));
+  for (const ImportedSubImage& sub : layers.subImages) {
+    if (sub.visibilityLayer > depth) {
+      diag.error(layers.path + ": layer '" + sub.name + "': visibility layer " + std::to_string(sub.visibilityLayer) +
+                 ", the geometry seen from '" + out.camera.id + "' now has " + std::to_string(depth) + "; left out");
+      continue;
+    }
+    out.subImages.push_back({sub.visibilityLayer, sub.window, sub.rgba});
+  }
+  return out;
+}
+
 }  // namespace hv::layers

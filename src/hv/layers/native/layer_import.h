@@ -1,11 +1,14 @@
 // A photograph's edited layers read back (Layered projective texture maps, 2003, §5): the
 // OpenRaster file `histoview layers export` wrote, after an artist painted in it, as sub-images with
 // their windows in the photograph's pixels, ready to become projective textures through their
-// sheared frusta (hv/layers/sub_image.h). Rendering them is not done yet (docs/layers.md).
+// sheared frusta (hv/layers/sub_image.h), each on its own visibility layer's surfaces
+// (hv/layers/layered_texture.h).
 #pragma once
 
 #include "hv/camera/camera.h"
 #include "hv/image/image.h"
+#include "hv/layers/layered_texture.h"
+#include "hv/layers/native/layer_export.h"
 #include "hv/layers/sub_image.h"
 
 #include "hv/scene/scene.h"
@@ -42,6 +45,15 @@ std::map<std::string, std::string> readLayerFiles(const Scene& scene, Diagnostic
 // naming the file when it cannot be read, when its aspect ratio is not the camera's (more than a
 // pixel off), or when it holds no "L<k> " layer.
 ImportedLayers importLayers(const std::string& path, const Camera& camera);
+
+// The edited layers of photograph `photo` of `scene`, ready to texture the geometry
+// (hv/layers/layered_texture.h): the sub-images of `layers` and one peeled depth map per visibility
+// layer, from the rays cast and peeled again at the file's size with `settings`' objects and rays
+// (the export's: the same scene, size and terrain tiles give the same layers; its size and pre-fill
+// are not used). A sub-image of a layer deeper than the geometry now has is reported in `diag`
+// (the file, the layer's name) and left out: the scene changed since the export.
+LayeredPhotograph layeredPhotograph(const Scene& scene, std::size_t photo, const ImportedLayers& layers,
+                                    const LayerExportSettings& settings, Diagnostics& diag);
 
 // Texture memory (texels) of sub-images as the paper counts it (§4.2): each in the smallest
 // power-of-two texture that holds it, against one whole power-of-two texture per visibility layer.
