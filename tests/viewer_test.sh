@@ -70,8 +70,8 @@ grep -E "converged after|wrote" "$DIR/view.out"
 # one grey level in 255), leaves room only for a window framebuffer that would dither or convert
 # colours; a flipped, shifted, rescaled or partially converged picture scores far below it
 # (a one-row shift of the demo city is under 25 dB).
-cat >"$DIR/compare.py" <<'EOF'
-import math, struct, sys, zlib
+cat >"$DIR/png.py" <<'EOF'
+import struct, zlib
 
 def read_png(path):
     data = open(path, "rb").read()
@@ -103,6 +103,10 @@ def read_png(path):
         rows.append(line)
         prev = line
     return w, h, ch, rows
+EOF
+cat >"$DIR/compare.py" <<'EOF'
+import math, runpy, sys
+read_png = runpy.run_path(sys.argv[0].rsplit("/", 1)[0] + "/png.py")["read_png"]
 
 # Optional: argv[4:6] the columns [x0, x1) compared; argv[6] "differ": expect a PSNR below 30 dB.
 wa, ha, ca, A = read_png(sys.argv[1])
@@ -216,9 +220,9 @@ read -r pw ph < <(python3 -c '
 import json, sys
 c = next(c for c in json.load(open(sys.argv[1]))["cameras"] if c["id"] == sys.argv[2])
 print(c["width"], c["height"])' "$city/cameras.json" "$photo")
-for mode in "--then-now-opacity 1" "--then-now-swipe 0.5"; do
+for mode in "--then-now-opacity 1" "--then-now-swipe 0.5" "--then-now-opacity 0.5"; do
   read -r option value <<<"$mode"
-  name=${option#--}
+  name=${option#--}-$value
   xvfb-run -a -s "-screen 0 1600x1200x24" "$HV" view "$city/scene.json" --camera "$photo" --size "${pw}x${ph}" \
     --screenshot "$DIR/viewer-$name.png" --exit-after-converge --frames 400 --hide-panel "$option" "$value" \
     >"$DIR/view-$name.out" 2>&1
@@ -234,9 +238,26 @@ done
 loo=$(ls "$DIR"/render-loo/*.png | grep -v -- "-preview" | head -1)
 half=$((pw / 2))  # columns 0..half-1 have centres below pw / 2
 echo "then and now at $photo (${pw}x${ph}):"
-compare "$DIR/viewer-then-now-opacity.png" "$city/images/$photo.png" "$DIR" || exit 1
-compare "$DIR/viewer-then-now-swipe.png" "$city/images/$photo.png" "$DIR" 0 "$half" || exit 1
-compare "$DIR/viewer-then-now-swipe.png" "$loo" "$DIR" "$half" "$pw" || exit 1
+compare "$DIR/viewer-then-now-opacity-1.png" "$city/images/$photo.png" "$DIR" || exit 1
+compare "$DIR/viewer-then-now-swipe-0.5.png" "$city/images/$photo.png" "$DIR" 0 "$half" || exit 1
+compare "$DIR/viewer-then-now-swipe-0.5.png" "$loo" "$DIR" "$half" "$pw" || exit 1
+# At opacity 0.5 each pixel is a * photograph + (1 - a) * render, a = round(0.5 * 255) / 255 (the
+# alpha an 8-bit vertex colour carries; compositeThenNow in then_now.h), rounded: within one grey
+# level (the GL blend of 8-bit colours may round the other way).
+cat >"$DIR/blend.py" <<'EOF'
+import runpy, sys
+read_png = runpy.run_path(sys.argv[0].rsplit("/", 1)[0] + "/png.py")["read_png"]
+w, h, cv, V = read_png(sys.argv[1])
+_, _, cp, P = read_png(sys.argv[2])
+_, _, cr, R = read_png(sys.argv[3])
+a = round(float(sys.argv[4]) * 255) / 255
+worst = max(abs(V[y][x * cv + k] - round(a * P[y][x * cp + k] + (1 - a) * R[y][x * cr + k]))
+            for y in range(h) for x in range(w) for k in range(3))
+print(f"opacity {sys.argv[4]}: largest difference from a * photograph + (1 - a) * render: {worst}")
+sys.exit(1 if worst > 1 else 0)
+EOF
+python3 "$DIR/blend.py" "$DIR/viewer-then-now-opacity-0.5.png" "$city/images/$photo.png" "$loo" 0.5 ||
+  { echo "FAIL: then and now at opacity 0.5 is not that blend; images in $DIR"; exit 1; }
 
 # The control panel, whose render-settings widgets are made from the settings schema
 # (src/hv/viewer/desktop/settings_panel.cpp): drawn with its Blending, Points and Debug sections
