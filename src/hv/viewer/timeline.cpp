@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
 
 namespace hv::viewer {
 
@@ -97,6 +99,17 @@ DateInterval shiftWindow(DateInterval window, std::int64_t days, const TimelineA
   const std::int64_t width = std::min(window.last - window.first, axis.last - axis.first);
   const std::int64_t first = std::clamp(window.first + days, axis.first, axis.last - width);
   return {first, first + width};
+}
+
+std::pair<double, double> parseTimelinePositions(const std::string& text, const std::string& what) {
+  double a = 0.0, b = 0.0;
+  char rest = 0;
+  if (std::sscanf(text.c_str(), "%lf:%lf%c", &a, &b, &rest) != 2 || !(a >= 0.0) || !(b <= 1.0) || !(a <= b))
+    throw std::invalid_argument(what +
+                                ": expected FROM:TO, two positions along the timeline (0 its first day, 1 its "
+                                "last, FROM <= TO), got '" +
+                                text + "'");
+  return {a, b};
 }
 
 int countInWindow(const PhotoDates& dates, const DateInterval& window) {

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hv::viewer {
@@ -65,6 +66,10 @@ DateInterval moveWindowEnd(DateInterval window, std::int64_t day, const Timeline
 // Dragging the whole window by `days`: its width is kept and it stops at the axis's ends (a window
 // wider than the axis becomes the axis).
 DateInterval shiftWindow(DateInterval window, std::int64_t days, const TimelineAxis& axis);
+
+// Two slider positions "A:B" (as the viewer's --timeline gives them): 0 <= A <= B <= 1. Throws
+// std::invalid_argument naming `what` (the option) and what was expected.
+std::pair<double, double> parseTimelinePositions(const std::string& text, const std::string& what = "--timeline");
 
 // Dated photographs whose date overlaps `window`.
 int countInWindow(const PhotoDates& dates, const DateInterval& window);

@@ -82,6 +82,22 @@ TEST(Timeline, SliderPositionsAndDays) {
   for (std::int64_t day = 100; day <= 200; ++day) EXPECT_EQ(axis.dayAt(axis.positionOf(day)), day);
 }
 
+TEST(Timeline, ParsesSliderPositionsAndSaysWhatWasExpected) {
+  EXPECT_EQ(parseTimelinePositions("0:1"), std::make_pair(0.0, 1.0));
+  EXPECT_EQ(parseTimelinePositions("0.25:0.5"), std::make_pair(0.25, 0.5));
+  EXPECT_EQ(parseTimelinePositions("1:1"), std::make_pair(1.0, 1.0));
+  for (const char* bad : {"", "0.5", "0.6:0.4", "-0.1:0.5", "0:1.5", "0:1x", "a:b", "nan:1"}) {
+    try {
+      parseTimelinePositions(bad);
+      ADD_FAILURE() << "'" << bad << "' was accepted";
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("--timeline: expected FROM:TO"), std::string::npos) << what;
+      EXPECT_NE(what.find(std::string("got '") + bad + "'"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(Timeline, DraggingTheEndsKeepsThemOrderedOnTheAxis) {
   const TimelineAxis axis{100, 200};
   const DateInterval w{120, 180};

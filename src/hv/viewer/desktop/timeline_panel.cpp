@@ -3,7 +3,6 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <stdexcept>
 
 namespace hv::viewer {
@@ -39,16 +38,9 @@ TimelinePanel::TimelinePanel(const Scene& scene)
 }
 
 DateInterval TimelinePanel::windowAtPositions(const std::string& positions) const {
-  const std::string expected =
-      "--timeline: expected FROM:TO, two positions along the timeline (0 its first day, 1 "
-      "its last, FROM <= TO), got '" +
-      positions + "'";
+  const auto [a, b] = parseTimelinePositions(positions);
   if (dates_.dated.empty())
     throw std::invalid_argument("--timeline: no photograph of the scene has a date, so there is no timeline");
-  double a = 0.0, b = 0.0;
-  char rest = 0;
-  if (std::sscanf(positions.c_str(), "%lf:%lf%c", &a, &b, &rest) != 2 || !(a >= 0.0) || !(b <= 1.0) || !(a <= b))
-    throw std::invalid_argument(expected);
   return {axis_.dayAt(a), axis_.dayAt(b)};
 }
 
