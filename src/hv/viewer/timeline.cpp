@@ -118,8 +118,10 @@ int countInWindow(const PhotoDates& dates, const DateInterval& window) {
   return n;
 }
 
-void TimelinePlayer::start(DateInterval& window, const TimelineAxis& axis) {
+void TimelinePlayer::start(DateInterval& window, const TimelineAxis& axis, std::int64_t wholeAxisWidthDays) {
   window = windowOnAxis(window, axis);
+  if (window.first <= axis.first && window.last >= axis.last)
+    window = {axis.first, std::min(axis.last, axis.first + std::max<std::int64_t>(wholeAxisWidthDays, 1) - 1)};
   if (window.last >= axis.last) window = shiftWindow(window, axis.first - window.first, axis);
   carryDays_ = 0.0;
   playing_ = true;

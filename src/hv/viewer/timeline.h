@@ -87,8 +87,9 @@ struct PlaySettings {
 // at any frame rate.
 class TimelinePlayer {
  public:
-  // Starts playing `window` (rewound to the axis's start when it already touches the end).
-  void start(DateInterval& window, const TimelineAxis& axis);
+  // Starts playing `window`, rewound to the axis's start when it already touches the end; a window
+  // over the whole axis (nothing to walk) becomes its first `wholeAxisWidthDays` days.
+  void start(DateInterval& window, const TimelineAxis& axis, std::int64_t wholeAxisWidthDays = 3653);
   void stop() { playing_ = false; }
   bool playing() const { return playing_; }
   // Advances by `seconds`; returns true when the window moved. Reaching the end stops the player

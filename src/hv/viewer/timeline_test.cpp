@@ -165,6 +165,14 @@ TEST(Timeline, PlayStopsAtTheEndOrLoops) {
   EXPECT_EQ(w, (DateInterval{0, 50}));
   EXPECT_TRUE(p.playing());
 
+  // The whole axis has nowhere to go: it becomes its first 100 days.
+  DateInterval whole{0, 1000};
+  p.start(whole, axis, 100);
+  EXPECT_EQ(whole, (DateInterval{0, 99}));
+  DateInterval open = windowOnAxis(std::nullopt, axis);
+  p.start(open, axis, 5000);
+  EXPECT_EQ(open, (DateInterval{0, 1000}));
+
   TimelinePlayer loop;
   DateInterval l{900, 950};
   loop.start(l, axis);

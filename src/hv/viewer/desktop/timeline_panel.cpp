@@ -50,6 +50,14 @@ std::string TimelinePanel::describe(const DateInterval& window) const {
          " dated photographs";
 }
 
+void TimelinePanel::startPlay(render::RenderSettings& settings) {
+  DateInterval w = windowOnAxis(settings.blend.window, axis_);
+  const DateInterval firstBar =
+      histogram_.counts.empty() ? DateInterval{axis_.first, axis_.last} : histogram_.binDays(0);
+  player_.start(w, axis_, firstBar.last - firstBar.first + 1);
+  settings.blend.window = w;
+}
+
 bool TimelinePanel::step(double seconds, render::RenderSettings& settings) {
   if (!player_.playing()) return false;
   DateInterval w = windowOnAxis(settings.blend.window, axis_);
@@ -124,9 +132,7 @@ TimelinePanel::Result TimelinePanel::draw(render::RenderSettings& settings) {
       if (player_.playing()) {
         player_.stop();
       } else {
-        DateInterval w = now;
-        player_.start(w, axis_);
-        settings.blend.window = w;
+        startPlay(settings);
         result.changed = true;
       }
     }

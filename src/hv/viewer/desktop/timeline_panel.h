@@ -28,6 +28,8 @@ class TimelinePanel {
   // A line on what `window` selects: its days and how many dated photographs it holds.
   std::string describe(const DateInterval& window) const;
 
+  // Starts play from the window in `settings` (a window over the whole timeline becomes its first bar).
+  void startPlay(render::RenderSettings& settings);
   // Advances play by `seconds`; true when it moved the window in `settings`.
   bool step(double seconds, render::RenderSettings& settings);
 

@@ -136,10 +136,8 @@ class Viewer {
       std::cout << "viewer: timeline " << timeline_->describe(*rs.blend.window) << "\n";
     }
     if (o_.playYearsPerSecond > 0.0) {
-      DateInterval w = windowOnAxis(rs.blend.window, timeline_->axis());
       timeline_->play().yearsPerSecond = o_.playYearsPerSecond;
-      timeline_->player().start(w, timeline_->axis());
-      rs.blend.window = w;
+      timeline_->startPlay(rs);
     }
 
     nav_->setCamera(startCamera(window_->framebufferSize()));
@@ -242,9 +240,7 @@ class Viewer {
     render::RenderSettings& rs = renderer_->settings();
     if (timeline_->dates().dated.empty()) return;
     if (timeline_->player().playing()) return timeline_->player().stop();
-    DateInterval w = windowOnAxis(rs.blend.window, timeline_->axis());
-    timeline_->player().start(w, timeline_->axis());
-    rs.blend.window = w;
+    timeline_->startPlay(rs);
     settingsChanged_ = true;
   }
 
@@ -630,7 +626,8 @@ class Viewer {
       // The picture, or the debug view the renderer drew in its place.
       if (renderer_->colorTexture()) presenter_->blitFlipped(renderer_->colorTexture(), renderedSize_, fb);
 
-      const bool converged = renderer_->converged() && renderedScale == 1.0 && !focusPath_;
+      const bool converged =
+          renderer_->converged() && renderedScale == 1.0 && !focusPath_ && !timeline_->player().playing();
       const bool finalShot = o_.exitAfterConverge && converged && !o_.screenshot.empty();
       // Then and now draws the photograph in the UI's background layer: a screenshot without the
       // panel is then taken after the UI pass, the panel left out of that frame.
