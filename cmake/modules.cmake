@@ -99,7 +99,7 @@ function(hv_define_modules)
             PRIVATE_EXTERNAL json)
   hv_module(render_gl PORTABLE DIRS render/gl EXTRA_SOURCES ${CMAKE_SOURCE_DIR}/src/hv/render/renderer.cpp
             DEPS gpu render PRIVATE_DEPS camera ibr image scene util)
-  hv_module(viewer PORTABLE DIRS viewer DEPS camera PRIVATE_DEPS scene)
+  hv_module(viewer PORTABLE DIRS viewer DEPS camera image util PRIVATE_DEPS scene)
   hv_module(pose PORTABLE DIRS pose DEPS camera util EXTERNAL glm PRIVATE_EXTERNAL eigen)
   # Layered projective texture maps (2003): visibility layers, image-layer clustering, sub-image frusta.
   hv_module(layers PORTABLE DIRS layers DEPS camera image EXTERNAL glm)

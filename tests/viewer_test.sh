@@ -9,6 +9,10 @@
 # `histoview render` and compares the two pictures. Then the same for two debug views
 # (docs/viewer.md): the weight of the photograph nearest the view with the frusta drawn, and that
 # photograph's depth map, against `render --debug weight:ID --frusta` and `--debug depth:ID`.
+# Then the timeline (--timeline FROM:TO, positions along it): a window holding no photograph
+# gives the untextured picture, one holding all the full one, each against `render --from --to`;
+# and then and now at a photograph's camera: at opacity 1 the window is the photograph itself, with
+# a swipe line at the middle its left half and, right of the line, the render without it.
 # Exits 77 (skipped) when xvfb-run or the viewer is not available, saying which.
 set -uo pipefail
 
@@ -66,8 +70,8 @@ grep -E "converged after|wrote" "$DIR/view.out"
 # one grey level in 255), leaves room only for a window framebuffer that would dither or convert
 # colours; a flipped, shifted, rescaled or partially converged picture scores far below it
 # (a one-row shift of the demo city is under 25 dB).
-cat >"$DIR/compare.py" <<'EOF'
-import math, struct, sys, zlib
+cat >"$DIR/png.py" <<'EOF'
+import struct, zlib
 
 def read_png(path):
     data = open(path, "rb").read()
@@ -99,22 +103,37 @@ def read_png(path):
         rows.append(line)
         prev = line
     return w, h, ch, rows
+EOF
+cat >"$DIR/compare.py" <<'EOF'
+import math, runpy, sys
+read_png = runpy.run_path(sys.argv[0].rsplit("/", 1)[0] + "/png.py")["read_png"]
 
+# Optional: argv[4:6] the columns [x0, x1) compared; argv[6] "differ": expect a PSNR below 30 dB.
 wa, ha, ca, A = read_png(sys.argv[1])
 wb, hb, cb, B = read_png(sys.argv[2])
 if (wa, ha) != (wb, hb):
     print(f"FAIL: viewer screenshot is {wa}x{ha}, render {wb}x{hb}")
     sys.exit(1)
+x0, x1 = (int(sys.argv[4]), int(sys.argv[5])) if len(sys.argv) > 5 else (0, wa)
+differ = len(sys.argv) > 6 and sys.argv[6] == "differ"
 se, n, differing = 0, 0, 0
 for y in range(ha):
-    for x in range(wa):
+    for x in range(x0, x1):
         d = [A[y][x * ca + k] - B[y][x * cb + k] for k in range(3)]
         se += sum(v * v for v in d)
         differing += any(d)
         n += 3
 mse = se / n
 psnr = float("inf") if mse == 0 else 10 * math.log10(255 ** 2 / mse)
-print(f"viewer vs render: PSNR {psnr:.2f} dB, {differing} of {wa * ha} pixels differ")
+name = lambda p: "/".join(p.split("/")[-2:])
+print(f"{name(sys.argv[1])} vs {name(sys.argv[2])} (columns {x0}..{x1 - 1}): "
+      f"PSNR {psnr:.2f} dB, {differing} of {(x1 - x0) * ha} pixels differ")
+if differ:
+    if psnr >= 30.0:
+        print("FAIL: expected different pictures (PSNR below 30 dB); images in", sys.argv[3])
+        sys.exit(1)
+    print("ok (they differ)")
+    sys.exit(0)
 if psnr < 50.0:
     print("FAIL: PSNR below 50 dB; images in", sys.argv[3])
     sys.exit(1)
@@ -146,6 +165,99 @@ for debug in "weight:$photo --frusta" "depth:$photo"; do
   echo "debug view $spec $extra (photograph nearest the view):"
   compare "$DIR/viewer-$name.png" "$DIR/render-$name/$id.$name-preview.png" "$DIR" || exit 1
 done
+
+# The timeline (src/hv/viewer/timeline.h): --timeline sets the window at two positions along it
+# as dragging its handles does, the viewer prints the days and how many dated photographs the
+# window holds, and the picture is `render --from --to` of those days. The count is checked here
+# against the photographs' dates. The last day of the timeline (1:1, 31 December of the last
+# bar's last year) holds none of the demo's photographs (dated on days 1..28), so the view is
+# the shaded, untextured geometry; 0:1 holds every photograph: the picture of the first test.
+count_in_window() {
+  python3 -c '
+import datetime, json, sys
+first, last = (datetime.date.fromisoformat(d) for d in sys.argv[2:4])
+dates = [c.get("date", "") for c in json.load(open(sys.argv[1]))["cameras"]]
+print(sum(1 for d in dates if d and first <= datetime.date.fromisoformat(d) <= last))' "$@"
+}
+for positions in 1:1 0:0.5 0:1; do
+  name=timeline-${positions/:/-}
+  xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
+    --size "$size" --screenshot "$DIR/viewer-$name.png" --exit-after-converge --frames 400 --hide-panel \
+    --timeline "$positions" >"$DIR/view-$name.out" 2>&1
+  rc=$?
+  line=$(grep -o "viewer: timeline .*" "$DIR/view-$name.out")
+  if ((rc != 0)) || [[ ! -s $DIR/viewer-$name.png || -z $line ]]; then
+    echo "FAIL: histoview view --timeline $positions exited with $rc (or wrote no screenshot or window); output:"
+    tail -30 "$DIR/view-$name.out"
+    exit 1
+  fi
+  read -r from _ to count _ <<<"${line#viewer: timeline }"  # "FROM .. TO: N of M dated photographs"
+  to=${to%:}
+  expected=$(count_in_window "$city/cameras.json" "$from" "$to")
+  echo "timeline $positions: $from .. $to holds $count photograph(s) (by their dates: $expected)"
+  if [[ $count != "$expected" ]]; then
+    echo "FAIL: the viewer counts $count photograph(s) in $from .. $to, their dates $expected"
+    exit 1
+  fi
+  case $positions in
+    1:1) ((count == 0)) || { echo "FAIL: the timeline's last day should hold no demo photograph"; exit 1; } ;;
+    0:1) ((count == 12)) || { echo "FAIL: the whole timeline should hold the 12 photographs"; exit 1; } ;;
+  esac
+  "$HV" render "$city/scene.json" --views "$city/views.json" --size "$size" --out "$DIR/render-$name" \
+    --from "$from" --to "$to" >"$DIR/render-$name.out" 2>&1 ||
+    { echo "FAIL: histoview render --from $from --to $to"; cat "$DIR/render-$name.out"; exit 1; }
+  compare "$DIR/viewer-$name.png" "$DIR/render-$name/$id.png" "$DIR" || exit 1
+done
+echo "an empty window is not the textured picture:"
+compare "$DIR/viewer-timeline-1-1.png" "$DIR/viewer.png" "$DIR" 0 "$w" differ || exit 1
+compare "$DIR/viewer-timeline-0-1.png" "$DIR/viewer.png" "$DIR" || exit 1
+
+# Then and now (src/hv/viewer/then_now.h) at the photograph nearest the view, the window its
+# size: at opacity 1 the photograph covers the window 1:1, so the screenshot is its PNG. With a
+# swipe line at 0.5 the columns left of the line (pixel centres below w / 2) are the photograph's,
+# those right of it the render at its camera without it (`render --camera ID --exclude ID`).
+read -r pw ph < <(python3 -c '
+import json, sys
+c = next(c for c in json.load(open(sys.argv[1]))["cameras"] if c["id"] == sys.argv[2])
+print(c["width"], c["height"])' "$city/cameras.json" "$photo")
+for mode in "--then-now-opacity 1" "--then-now-swipe 0.5" "--then-now-opacity 0.5"; do
+  read -r option value <<<"$mode"
+  name=${option#--}-$value
+  xvfb-run -a -s "-screen 0 1600x1200x24" "$HV" view "$city/scene.json" --camera "$photo" --size "${pw}x${ph}" \
+    --screenshot "$DIR/viewer-$name.png" --exit-after-converge --frames 400 --hide-panel "$option" "$value" \
+    >"$DIR/view-$name.out" 2>&1
+  rc=$?
+  if ((rc != 0)) || [[ ! -s $DIR/viewer-$name.png ]]; then
+    echo "FAIL: histoview view --camera $photo $mode exited with $rc (or wrote no screenshot); output:"
+    tail -30 "$DIR/view-$name.out"
+    exit 1
+  fi
+done
+"$HV" render "$city/scene.json" --camera "$photo" --exclude "$photo" --size "${pw}x${ph}" --out "$DIR/render-loo" \
+  >"$DIR/render-loo.out" 2>&1 || { echo "FAIL: histoview render --camera $photo --exclude $photo"; cat "$DIR/render-loo.out"; exit 1; }
+loo=$(ls "$DIR"/render-loo/*.png | grep -v -- "-preview" | head -1)
+half=$((pw / 2))  # columns 0..half-1 have centres below pw / 2
+echo "then and now at $photo (${pw}x${ph}):"
+compare "$DIR/viewer-then-now-opacity-1.png" "$city/images/$photo.png" "$DIR" || exit 1
+compare "$DIR/viewer-then-now-swipe-0.5.png" "$city/images/$photo.png" "$DIR" 0 "$half" || exit 1
+compare "$DIR/viewer-then-now-swipe-0.5.png" "$loo" "$DIR" "$half" "$pw" || exit 1
+# At opacity 0.5 each pixel is a * photograph + (1 - a) * render, a = round(0.5 * 255) / 255 (the
+# alpha an 8-bit vertex colour carries; compositeThenNow in then_now.h), rounded: within one grey
+# level (the GL blend of 8-bit colours may round the other way).
+cat >"$DIR/blend.py" <<'EOF'
+import runpy, sys
+read_png = runpy.run_path(sys.argv[0].rsplit("/", 1)[0] + "/png.py")["read_png"]
+w, h, cv, V = read_png(sys.argv[1])
+_, _, cp, P = read_png(sys.argv[2])
+_, _, cr, R = read_png(sys.argv[3])
+a = round(float(sys.argv[4]) * 255) / 255
+worst = max(abs(V[y][x * cv + k] - round(a * P[y][x * cp + k] + (1 - a) * R[y][x * cr + k]))
+            for y in range(h) for x in range(w) for k in range(3))
+print(f"opacity {sys.argv[4]}: largest difference from a * photograph + (1 - a) * render: {worst}")
+sys.exit(1 if worst > 1 else 0)
+EOF
+python3 "$DIR/blend.py" "$DIR/viewer-then-now-opacity-0.5.png" "$city/images/$photo.png" "$loo" 0.5 ||
+  { echo "FAIL: then and now at opacity 0.5 is not that blend; images in $DIR"; exit 1; }
 
 # The control panel, whose render-settings widgets are made from the settings schema
 # (src/hv/viewer/desktop/settings_panel.cpp): drawn with its Blending, Points and Debug sections

@@ -37,6 +37,21 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--moving-scale", o->movingScale,
                   "render resolution while moving, as a fraction of the window's (default 0.5)")
       ->check(CLI::Range(0.1, 1.0));
+  cmd->add_option("--timeline", o->timeline,
+                  "set the time window (from/to) on the timeline: FROM:TO, positions along it from 0 (the first "
+                  "day of its first bar) to 1 (the last day of its last)");
+  cmd->add_option("--play", o->playYearsPerSecond, "play the timeline from its start at this many years per second")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--then-now", o->thenNow,
+                "start in then and now at --camera (a photograph): the photograph over the render without it");
+  cmd->add_option("--then-now-opacity", o->thenNowOpacity,
+                  "then and now: the photograph's opacity over the render, 0..1 (implies --then-now)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--then-now-swipe", o->thenNowSwipe,
+                  "then and now: the photograph left of a line at this fraction of its width, 0..1 (implies "
+                  "--then-now)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->excludes("--then-now-opacity");
   setAction(*cmd, exitCode, [o] { return viewer::run(*o); });
 }
 

@@ -22,6 +22,11 @@ struct ViewerOptions {
   bool walk = false;             // start walking
   bool hidePanel = false;
   double movingScale = 0.5;      // render resolution while the camera moves (progressive)
+  std::string timeline;          // "A:B": the time window at these timeline positions (0..1)
+  double playYearsPerSecond = 0;  // > 0: play the timeline from the start at this speed
+  bool thenNow = false;           // start in then and now at --camera (a photograph)
+  double thenNowOpacity = -1;     // >= 0: then and now with this opacity
+  double thenNowSwipe = -1;       // >= 0: then and now with a swipe at this position
 };
 
 // True when this build has the viewer.

@@ -4,17 +4,19 @@
 #include "hv/viewer/desktop/viewer.h"
 
 #include "hv/gpu/gl.h"
+#include "hv/gpu/platform/glfw/glfw_window.h"
 #include "hv/gpu/present.h"
 #include "hv/image/image.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/camera_path_json.h"
-#include "hv/gpu/platform/glfw/glfw_window.h"
 #include "hv/scene/native/raycast.h"
+#include "hv/scene/scene_scale.h"
 #include "hv/viewer/desktop/debug_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
+#include "hv/viewer/desktop/timeline_panel.h"
 #include "hv/viewer/key_events.h"
 #include "hv/viewer/navigation.h"
-#include "hv/image/native/png_write.h"
-#include "hv/scene/scene_scale.h"
+#include "hv/viewer/then_now.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -72,6 +74,17 @@ struct PanelState {
   std::string message;
 };
 
+// Then and now (hv/viewer/then_now.h): the photograph over the render of the scene without it.
+struct ThenNowState {
+  bool on = false;
+  int photo = -1;
+  bool excluded = false;  // its id was added to the exclusions by this mode (and is removed after)
+  ThenNowSettings settings;
+  Image8 image;               // the photograph as decoded
+  gpu::ImageTexture texture;  // it, at the size it covers in the window
+  glm::ivec2 textureSize{0};
+};
+
 class Viewer {
  public:
   explicit Viewer(const ViewerOptions& o) : o_(o) {}
@@ -116,8 +129,27 @@ class Viewer {
     order_ = streetOrder(centres);
     showPanel_ = !o_.hidePanel;
 
+    timeline_ = std::make_unique<TimelinePanel>(scene);
+    render::RenderSettings& rs = renderer_->settings();
+    if (!o_.timeline.empty()) {
+      rs.blend.window = timeline_->windowAtPositions(o_.timeline);
+      std::cout << "viewer: timeline " << timeline_->describe(*rs.blend.window) << "\n";
+    }
+    if (o_.playYearsPerSecond > 0.0) {
+      timeline_->play().yearsPerSecond = o_.playYearsPerSecond;
+      timeline_->startPlay(rs);
+    }
+
     nav_->setCamera(startCamera(window_->framebufferSize()));
     if (o_.walk) nav_->setMode(Mode::Walk);
+    if (o_.thenNow || o_.thenNowOpacity >= 0.0 || o_.thenNowSwipe >= 0.0) {
+      if (focused_ < 0)
+        throw std::invalid_argument(
+            "--then-now: --camera must name a photograph (then and now is seen from its camera)");
+      if (o_.thenNowOpacity >= 0.0) thenNow_.settings.opacity = o_.thenNowOpacity;
+      if (o_.thenNowSwipe >= 0.0) thenNow_.settings = {ThenNowMode::Swipe, 1.0, o_.thenNowSwipe};
+      enterThenNow(focused_, false);
+    }
     presenter_ = std::make_unique<gpu::Presenter>();
     return loop();
   }
@@ -193,6 +225,92 @@ class Viewer {
     if (keys_.pressed(GLFW_KEY_P) || keys_.pressed(GLFW_KEY_PAGE_UP)) stepPhoto(-1);
     if (keys_.pressed(GLFW_KEY_F2)) screenshotRequested_ = true;
     if (keys_.pressed(GLFW_KEY_R)) toggleRecording();
+    if (keys_.pressed(GLFW_KEY_T)) {
+      if (thenNow_.on)
+        leaveThenNow();
+      else if (focused_ >= 0)
+        enterThenNow(focused_, true);
+      else
+        panel_.message = "then and now: choose a photograph first (the list, N or P)";
+    }
+    if (keys_.pressed(GLFW_KEY_SPACE)) togglePlay();
+  }
+
+  void togglePlay() {
+    render::RenderSettings& rs = renderer_->settings();
+    if (timeline_->dates().dated.empty()) return;
+    if (timeline_->player().playing()) return timeline_->player().stop();
+    timeline_->startPlay(rs);
+    settingsChanged_ = true;
+  }
+
+  // Then and now at photograph `photo`: the view at its camera (flown to when `fly`), the
+  // photograph left out of the render (leave-one-out) and drawn over it.
+  void enterThenNow(int photo, bool fly) {
+    if (thenNow_.on) leaveThenNow();
+    const Photo& p = session_->scene.photos[size_t(photo)];
+    try {
+      thenNow_.image = readImage(p.imagePath, 3);
+    } catch (const std::exception& e) {
+      panel_.message = std::string("then and now: ") + e.what();
+      std::cerr << "error: " << panel_.message << "\n";
+      return;
+    }
+    thenNow_.on = true;
+    thenNow_.photo = photo;
+    thenNow_.textureSize = glm::ivec2(0);
+    std::vector<std::string>& exclude = renderer_->settings().blend.exclude;
+    thenNow_.excluded = std::find(exclude.begin(), exclude.end(), p.camera.id) == exclude.end();
+    if (thenNow_.excluded) exclude.push_back(p.camera.id);
+    settingsChanged_ = true;
+    focused_ = photo;
+    renderer_->settings().debug.photo = photo;
+    if (fly) {
+      // To the photograph's camera and no further: no step back, no zoom out, its roll kept, so
+      // the photograph lies exactly over the view.
+      FocusContextSettings s = focusSettings_;
+      s.holdSeconds = s.backSeconds = 0.0;
+      s.stepBack = 0.0;
+      s.zoomOut = 1.0;
+      s.levelHorizon = false;
+      focusPath_ = std::make_unique<FocusContextPath>(nav_->camera(), p.camera, s, caster_.get());
+      focusStart_ = Clock::now();
+      nav_->setMode(Mode::Fly);
+    }
+  }
+
+  void leaveThenNow() {
+    if (!thenNow_.on) return;
+    std::vector<std::string>& exclude = renderer_->settings().blend.exclude;
+    const std::string& id = session_->scene.photos[size_t(thenNow_.photo)].camera.id;
+    if (thenNow_.excluded) exclude.erase(std::remove(exclude.begin(), exclude.end(), id), exclude.end());
+    thenNow_.on = false;
+    thenNow_.excluded = false;
+    settingsChanged_ = true;
+  }
+
+  // The photograph over the picture, as a textured quad in the UI's background layer (drawn
+  // under the panel); compositeThenNow (then_now.h) is its CPU reference.
+  void drawThenNow(glm::ivec2 fb) {
+    const Image8& img = thenNow_.image;
+    const glm::ivec2 photoSize(img.width, img.height);
+    const std::optional<OverlayQuad> q = thenNowQuad(photoSize, fb, thenNow_.settings);
+    if (!q) return;
+    // The texture at the size the photograph covers (1:1 when the window is the photograph's
+    // size), resampled on the CPU rather than minified by GL without mipmaps.
+    const PixelRect rect = photoRectInWindow(photoSize, fb);
+    const glm::ivec2 want(std::max(1L, std::lround(rect.hi.x - rect.lo.x)),
+                          std::max(1L, std::lround(rect.hi.y - rect.lo.y)));
+    if (want != thenNow_.textureSize) {
+      thenNow_.texture.upload(want == photoSize ? img : resizeImage(img, want.x, want.y));
+      thenNow_.textureSize = want;
+    }
+    const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+    auto at = [&](glm::dvec2 px) { return ImVec2(float(px.x) / scale.x, float(px.y) / scale.y); };
+    ImGui::GetBackgroundDrawList()->AddImage(
+        reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(thenNow_.texture.id())), at(q->window.lo),
+        at(q->window.hi), ImVec2(float(q->uv.lo.x), float(q->uv.lo.y)), ImVec2(float(q->uv.hi.x), float(q->uv.hi.y)),
+        IM_COL32(255, 255, 255, int(std::lround(q->alpha * 255.0))));
   }
 
   void stepPhoto(int steps) {
@@ -209,6 +327,7 @@ class Viewer {
   }
 
   void focusOn(int photo) {
+    if (thenNow_.on) return enterThenNow(photo, true);  // then and now goes on at the next photograph
     focused_ = photo;
     renderer_->settings().debug.photo = photo;  // the weight and depth-map views show the chosen one
     settingsChanged_ = true;
@@ -319,11 +438,33 @@ class Viewer {
                        ImVec2(float(ts.x), float(ts.y)));
         }
       }
+      if (focused_ >= 0) {
+        bool on = thenNow_.on;
+        if (ImGui::Checkbox("then and now (T)", &on)) on ? enterThenNow(focused_, true) : leaveThenNow();
+        if (thenNow_.on) {
+          int mode = thenNow_.settings.mode == ThenNowMode::Swipe;
+          ImGui::SameLine();
+          if (ImGui::RadioButton("opacity", &mode, 0)) thenNow_.settings.mode = ThenNowMode::Opacity;
+          ImGui::SameLine();
+          if (ImGui::RadioButton("swipe", &mode, 1)) thenNow_.settings.mode = ThenNowMode::Swipe;
+          float v = float(mode ? thenNow_.settings.swipe : thenNow_.settings.opacity);
+          if (ImGui::SliderFloat(mode ? "swipe line" : "photograph", &v, 0.0f, 1.0f, "%.2f"))
+            (mode ? thenNow_.settings.swipe : thenNow_.settings.opacity) = v;
+          ImGui::TextDisabled("%s left out of the render; moving ends it",
+                              session_->scene.photos[size_t(thenNow_.photo)].camera.id.c_str());
+        }
+      }
       float back = float(focusSettings_.stepBack);
       if (ImGui::SliderFloat("step back", &back, 0.0f, 100.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
         focusSettings_.stepBack = back;
       float zoom = float(focusSettings_.zoomOut);
       if (ImGui::SliderFloat("zoom out", &zoom, 0.3f, 1.0f, "%.2f")) focusSettings_.zoomOut = zoom;
+    }
+
+    if (ImGui::CollapsingHeader("Timeline", ImGuiTreeNodeFlags_DefaultOpen)) {
+      const TimelinePanel::Result t = timeline_->draw(rs);
+      settingsChanged_ |= t.changed;
+      if (t.chosen >= 0) focusOn(t.chosen);
     }
 
     // The render settings, a section per group of the schema (render/settings_schema.h).
@@ -417,9 +558,10 @@ class Viewer {
       const auto t0 = Clock::now();
       // Idle (nothing moving, the view converged): sleep until an event instead of spinning.
       const bool idle = haveFrame && !focusPath_ && renderer_->converged() && renderedScale == 1.0 && !o_.redraw &&
-                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge;
+                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge && !timeline_->player().playing();
       window_->pollEvents(idle ? 0.25 : 0.0);
-      const double dt = std::clamp(std::chrono::duration<double>(Clock::now() - last).count(), 0.0, 0.1);
+      const double elapsed = std::max(0.0, std::chrono::duration<double>(Clock::now() - last).count());
+      const double dt = std::min(elapsed, 0.1);
       last = Clock::now();
 
       window_->beginUi();
@@ -433,6 +575,9 @@ class Viewer {
       // Camera: a focus + context transition, else the keys and mouse.
       const NavigationInput in = readInput(dt);
       keys_.endFrame();  // this frame has seen every press since the last one
+      if (thenNow_.on && (in.move != glm::dvec3(0.0) || in.lookPixels != glm::dvec2(0.0)))
+        leaveThenNow();  // the photograph fits only its own camera
+      if (timeline_->step(elapsed, renderer_->settings())) settingsChanged_ = true;  // play, at wall-clock speed
       if (focusPath_) {
         const double t = msSince(focusStart_) / 1000.0;
         nav_->setCamera(focusPath_->at(t));
@@ -446,7 +591,10 @@ class Viewer {
         }
         if (in.move != glm::dvec3(0.0)) focused_ = -1;
       }
-      if (nav_->camera().width != fb.x || nav_->camera().height != fb.y) nav_->setCamera(reframe(nav_->camera(), fb));
+      if (nav_->camera().width != fb.x || nav_->camera().height != fb.y)
+        nav_->setCamera(thenNow_.on && !focusPath_
+                            ? photoInWindow(session_->scene.photos[size_t(thenNow_.photo)].camera, fb.x, fb.y)
+                            : reframe(nav_->camera(), fb));
       const Camera& cam = nav_->camera();
       const bool moved = !haveFrame || cam.center != rendered.center || cam.camFromWorld != rendered.camFromWorld ||
                          cam.focal != rendered.focal || cam.width != rendered.width || cam.height != rendered.height;
@@ -478,17 +626,29 @@ class Viewer {
       // The picture, or the debug view the renderer drew in its place.
       if (renderer_->colorTexture()) presenter_->blitFlipped(renderer_->colorTexture(), renderedSize_, fb);
 
-      const bool converged = renderer_->converged() && renderedScale == 1.0 && !focusPath_;
+      const bool converged =
+          renderer_->converged() && renderedScale == 1.0 && !focusPath_ && !timeline_->player().playing();
       const bool finalShot = o_.exitAfterConverge && converged && !o_.screenshot.empty();
-      bool shotAfterUi = false;
-      if (finalShot && !o_.screenshotUi) writeScreenshot(o_.screenshot, fb);
-      if (finalShot && o_.screenshotUi) shotAfterUi = true;
-      if (screenshotRequested_ && !panel_.screenshotWithUi) writeRequestedScreenshot(fb);
+      // Then and now draws the photograph in the UI's background layer: a screenshot without the
+      // panel is then taken after the UI pass, the panel left out of that frame.
+      const bool overlay = thenNow_.on && !focusPath_;
+      bool shotAfterUi = false, panelThisFrame = showPanel_;
+      if (finalShot && !o_.screenshotUi && !overlay) writeScreenshot(o_.screenshot, fb);
+      if (finalShot && (o_.screenshotUi || overlay)) shotAfterUi = true;
+      if (finalShot && !o_.screenshotUi && overlay) panelThisFrame = false;
+      bool requestedAfterUi = screenshotRequested_;
+      if (screenshotRequested_ && !panel_.screenshotWithUi) {
+        if (overlay)
+          panelThisFrame = false;
+        else
+          writeRequestedScreenshot(fb), requestedAfterUi = false;
+      }
+      if (overlay) drawThenNow(fb);
       // The panel after the frame, so it shows this frame's state; what it changes applies next frame.
-      if (showPanel_) drawPanel();
+      if (panelThisFrame) drawPanel();
       window_->endUi();
       if (shotAfterUi) writeScreenshot(o_.screenshot, fb);
-      if (screenshotRequested_) writeRequestedScreenshot(fb);
+      if (requestedAfterUi) writeRequestedScreenshot(fb);
       window_->swapBuffers();
 
       const double ms = msSince(t0);
@@ -546,6 +706,8 @@ class Viewer {
   Clock::time_point focusStart_;
   PanelState panel_;
   SettingsPanel settingsPanel_;
+  std::unique_ptr<TimelinePanel> timeline_;
+  ThenNowState thenNow_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;
   bool screenshotRequested_ = false;
