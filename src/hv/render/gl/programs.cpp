@@ -203,7 +203,7 @@ VehicleProgram::VehicleProgram(const ProgramSource& src) : program(linkProgram(s
   skyLight = u.required("u_skyLight");
   groundLight = u.required("u_groundLight");
   sunLight = u.required("u_sunLight");
-  glass = u.required("u_glass");
+  shadow = u.required("u_shadow");
   shadowOpacity = u.required("u_shadowOpacity");
   shadowLift = u.required("u_shadowLift");
 }

@@ -101,12 +101,12 @@ struct LinesProgram {
   explicit LinesProgram(const ProgramSource& src);
 };
 
-// vehicles.vert + vehicles.frag: the traffic, instanced boxes lit by sun and sky, and a contact
-// shadow under each.
+// vehicles.vert + vehicles.frag: the traffic, each class's model instanced and lit by sun and sky,
+// and a contact shadow under each vehicle.
 struct VehicleProgram {
   gpu::Program program;
   GLint clipFromRender = -1, near = -1, far = -1, sunDir = -1, skyLight = -1, groundLight = -1, sunLight = -1,
-        glass = -1, shadowOpacity = -1, shadowLift = -1;
+        shadow = -1, shadowOpacity = -1, shadowLift = -1;
   VehicleProgram() = default;
   explicit VehicleProgram(const ProgramSource& src);
 };
