@@ -1,11 +1,10 @@
 #version 300 es
 // The traffic: models lit as the untextured surfaces (shaders/untextured.glsl: a hemisphere light
 // from sky and ground plus the sun, up = z), and a contact shadow fading at its edges. Depth: the
-// linear depth that depth.frag stores in the view's depth, so that the geometry in front of a
-// vehicle hides it (the 2013 paper, §3: composited with the Z-buffer).
+// rasteriser's own, tested against the view's depth rewritten in that encoding
+// (vehicle_depth.frag), so that the geometry in front of a vehicle hides it (the 2013 paper, §3:
+// composited with the Z-buffer) and hidden fragments are rejected before they are shaded.
 precision highp float;
-uniform float u_near;
-uniform float u_far;
 uniform vec3 u_sunDir;  // towards the sun, unit
 uniform vec3 u_skyLight;
 uniform vec3 u_groundLight;
@@ -17,7 +16,6 @@ in vec3 v_colour;
 in vec2 v_shadowUv;
 out vec4 o_color;
 void main() {
-  gl_FragDepth = clamp((1.0 / gl_FragCoord.w - u_near) / (u_far - u_near), 0.0, 1.0);
   if (u_shadow > 0.5) {
     float edge = max(abs(v_shadowUv.x), abs(v_shadowUv.y));
     o_color = vec4(0.0, 0.0, 0.0, u_shadowOpacity * (1.0 - smoothstep(0.7, 1.0, edge)));

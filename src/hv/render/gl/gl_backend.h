@@ -142,6 +142,10 @@ class GlBackend final : public Backend {
 
   // The traffic (vehicles_pass.cpp), linked on first use.
   VehicleProgram vehicleProgram_;
+  VehicleDepthProgram vehicleDepthProgram_;
+  // The view's depth in the rasteriser's encoding, the traffic's depth buffer (vehicles_pass.cpp).
+  gpu::Texture vehicleDepth_;
+  glm::ivec2 vehicleDepthSize_{0};
   // One vertex array per vehicle class's model, and the shadow quad's last.
   std::array<gpu::VertexArray, kVehicleClasses + 1> vehicleVaos_;
   std::array<gpu::Buffer, kVehicleClasses + 1> vehicleShapes_;

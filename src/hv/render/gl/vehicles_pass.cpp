@@ -1,7 +1,8 @@
 // The traffic over the picture (the 2013 paper, §3: a traffic simulation composited into the
 // image-based view): each vehicle an instance of its class's model (hv/traffic/vehicle_model.h: a
 // glTF file, or the built-in box with wheels), one instanced draw per class, depth-tested
-// against the view's depth (the geometry the picture shows, points included), so that a building
+// against the view's depth (the geometry the picture shows, points included; rewritten in the
+// rasteriser's encoding, so that the vehicles draw with early depth testing), so that a building
 // in front hides it; a contact shadow on the ground under each. Pinhole views only, like the
 // frusta: the models go through the view's pinhole transform.
 #include "hv/render/gl/gl_backend.h"
@@ -87,7 +88,10 @@ void GlBackend::vehicleShapes(const std::shared_ptr<const VehicleModels>& models
 void GlBackend::vehiclesPass(const Frame& f) {
   const std::vector<VehicleInstance>& vehicles = f.traffic.vehicles;
   if (vehicles.empty() || f.rect.distorted || f.rect.depthSize != glm::ivec2(f.view.width, f.view.height)) return;
-  if (!vehicleProgram_.program.id()) vehicleProgram_ = VehicleProgram(programs().vehicles);
+  if (!vehicleProgram_.program.id()) {
+    vehicleProgram_ = VehicleProgram(programs().vehicles);
+    vehicleDepthProgram_ = VehicleDepthProgram(programs().vehicleDepth);
+  }
   vehicleShapes(f.traffic.models);
   // The vehicles by class (a counting sort), so that each class is one instanced draw.
   std::array<std::size_t, kVehicleClasses + 1> first{};
@@ -102,13 +106,34 @@ void GlBackend::vehiclesPass(const Frame& f) {
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vehicleSorted_.size() * sizeof(VehicleInstance)), vehicleSorted_.data(),
                GL_STREAM_DRAW);
 
-  gpu::attachDepth(viewDepth_.id());
+  // The view's linear depth (depth.frag) rewritten in the rasteriser's encoding for the same
+  // projection, into a depth buffer of the traffic's own: the vehicles then leave gl_FragDepth
+  // alone, and the rasteriser rejects their hidden fragments before shading them (early depth
+  // test). The view's depth itself is left as the geometry made it.
+  const glm::ivec2 size(f.view.width, f.view.height);
+  if (!vehicleDepth_.id() || vehicleDepthSize_ != size) {
+    vehicleDepth_ = gpu::makeDepthTarget(size.x, size.y);
+    vehicleDepthSize_ = size;
+  }
+  gpu::attachDepth(vehicleDepth_.id());
   gpu::checkFramebuffer("vehicles");
+  {
+    const VehicleDepthProgram& d = vehicleDepthProgram_;
+    d.program.use();
+    gpu::bindUnit(kUnitViewDepth, GL_TEXTURE_2D, viewDepth_.id());
+    glUniform1i(d.viewDepth, kUnitViewDepth);
+    glUniform1f(d.near, float(f.rect.frustum.near));
+    glUniform1f(d.far, float(f.rect.frustum.far));
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gpu::drawFullscreen(emptyVao_);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
   const VehicleProgram& p = vehicleProgram_;
   p.program.use();
   gpu::uploadMat4(p.clipFromRender, f.rect.clipFromRender);
-  glUniform1f(p.near, float(f.rect.frustum.near));
-  glUniform1f(p.far, float(f.rect.frustum.far));
   auto vec3 = [](GLint location, const glm::dvec3& v) { glUniform3f(location, float(v.x), float(v.y), float(v.z)); };
   const UntexturedSettings& u = f.untextured;
   vec3(p.sunDir, sunDirection(f.up, u));
