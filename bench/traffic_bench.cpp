@@ -15,6 +15,7 @@
 #include "hv/render/vehicles.h"
 #include "hv/traffic/lift.h"
 #include "hv/traffic/trajectories.h"
+#include "hv/traffic/vehicle_model.h"
 #include "hv/util/diagnostics.h"
 
 #include "bench_common.h"
@@ -99,9 +100,14 @@ int run(const fs::path& dir) {
   std::printf("\nFrame time at %dx%d, view %s (median of %d frames after %d warm-up, a renderer per row)\n",
               view.width, view.height, view.id.c_str(), kFrameRepeats, kWarmupFrames);
   std::printf("  %-22s %10s %10s %9s %10s\n", "vehicles", "wall ms", "cpu ms", "vs 0", "+ms/1000");
+  // The demo's glTF models (scene.json traffic.models), when SUMO ran; else the box with wheels.
+  const std::shared_ptr<const hv::VehicleModels> models = scene.traffic ? scene.traffic->models : nullptr;
+  std::printf("  vehicle model: %s\n", models ? "the demo's glTF car" : "the built-in box with wheels");
   Timing base;
   for (int n : kCounts) {
-    scene.traffic = std::make_shared<const hv::Trajectories>(vehiclesInFront(view, n));
+    hv::Trajectories traffic = vehiclesInFront(view, n);
+    traffic.models = models;
+    scene.traffic = std::make_shared<const hv::Trajectories>(std::move(traffic));
     const Timing t = steadyFrame(scene, view, true, diag);
     if (n == 0) base = t;
     const double per1000 = n > 0 ? (t.wall - base.wall) * 1000.0 / n : 0.0;

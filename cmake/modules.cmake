@@ -107,7 +107,7 @@ function(hv_define_modules)
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
   hv_module(scene_native DIRS scene/native DEPS scene util PRIVATE_EXTERNAL geos embree)
   hv_module(io_native DIRS io/native io/native/private DEPS camera scene scene_native traffic util PRIVATE_DEPS io
-            PRIVATE_EXTERNAL gdal proj assimp pugixml json)
+            PRIVATE_EXTERNAL gdal proj assimp pugixml json tinygltf)
   hv_module(gpu_egl DIRS gpu/platform/egl PRIVATE_DEPS gpu util PRIVATE_EXTERNAL egl)
   # Layers from ray casts, their pre-fill from the other photographs, OpenRaster files (libzip).
   hv_module(layers_native DIRS layers/native DEPS camera image layers scene util PRIVATE_DEPS image_native scene_native

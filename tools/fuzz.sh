@@ -8,7 +8,7 @@
 #   tools/fuzz.sh scene_json 120 -fork=1 -ignore_crashes=1   # keep going past a known crash
 #
 # Targets: cameras_json image_decode scene_json footprints micmac_xml las ply web_points colmap_text itowns
-# mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd
+# mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd gltf
 # (fuzz/CMakeLists.txt). New inputs found go to
 # build-fuzz/corpus/<target>/ (not into the source tree); crashes to build-fuzz/artifacts/<target>/
 # as crash-*/leak-*/timeout-*/oom-*. A crash worth keeping goes into fuzz/corpus/<target>/ (named
@@ -17,7 +17,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-all_targets=(cameras_json image_decode scene_json footprints micmac_xml las ply web_points colmap_text itowns mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd)
+all_targets=(cameras_json image_decode scene_json footprints micmac_xml las ply web_points colmap_text itowns mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd gltf)
 target=${1:-all}
 seconds=${2:-60}
 shift $(($# > 2 ? 2 : $#))

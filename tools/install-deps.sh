@@ -26,6 +26,7 @@ packages=(
   postgresql-15                                         # the camera catalog's tests: a private cluster (tools/catalog.sh)
   postgresql-15-postgis-3                               # ... with PostGIS (the cameras' centres, their GiST indexes)
   sumo sumo-tools                                       # the demo's traffic: netconvert, randomTrips.py, sumo --fcd-output
+  libtinygltf-dev                                       # glTF vehicle models (scene.json traffic.models): tinygltf, header-only
 )
 
 missing=()

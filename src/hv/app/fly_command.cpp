@@ -77,6 +77,7 @@ struct FlyOptions {
   double fps = 25.0;
   bool progressive = false;
   std::string video;
+  double timeScale = 1.0;  // traffic seconds per path second
 };
 
 // fly --camera/--eye: the focus + context walk through the viewpoints (hv/viewer/tour.h), at
@@ -130,7 +131,10 @@ int runFly(const FlyOptions& o) {
             << "\n";
   const FlyResult r = flyPath(
       *s->renderer, frames->size(), [&](int i) { return sizeView((*frames)[i], o.view.size, o.view.viewpoint.fit); },
-      o.out, o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; });
+      o.out, o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; },
+      [&, start = s->renderer->settings().traffic.time](int i) {
+        return flyTrafficTime(i, o.fps, start, o.timeScale);
+      });
   std::cerr << "\n";
   for (const std::string& f : r.failures) std::cerr << "error: " << f << "\n";
   if (r.gaveUp)
@@ -180,8 +184,11 @@ FlyResult flyPath(render::Renderer& renderer, const std::vector<Camera>& frames,
       renderer, int(frames.size()), [&](int i) { return frames[size_t(i)]; }, outDir, progressive, progress);
 }
 
+double flyTrafficTime(int frame, double fps, double start, double scale) { return start + scale * frame / fps; }
+
 FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Camera(int)>& frame,
-                  const std::string& outDir, bool progressive, const FlyProgress& progress) {
+                  const std::string& outDir, bool progressive, const FlyProgress& progress,
+                  const std::function<double(int)>& trafficTime) {
   using clock = std::chrono::steady_clock;
   fs::create_directories(outDir);
   FlyResult result;
@@ -198,6 +205,7 @@ FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Cam
     std::string note;
     f.file = (fs::path(outDir) / (names.stem(cam.id, &note) + ".png")).string();
     if (!note.empty()) std::cerr << "note: frame " << note << "\n";
+    if (trafficTime) renderer.settings().traffic.time = trafficTime(i);
     try {
       const render::RenderOutput out = renderer.render(cam, false, mode);
       writePng(f.file, rgbOf(out.rgba));
@@ -284,6 +292,11 @@ void addFlyCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--progressive", o->progressive,
                 "render as a viewer does: one progressive frame per camera, improving as depth maps arrive "
                 "(default: every frame converged)");
+  cmd->add_option("--time-scale", o->timeScale,
+                  "the traffic's clock: at frame i it reads --time + time-scale * i / fps, the path's own "
+                  "seconds since its first key scaled (default 1: the vehicles move in real time; 0: they stand "
+                  "still at --time)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--video", o->video, "also encode the frames with ffmpeg (when installed), e.g. out.mp4");
   setAction(*cmd, exitCode, [o] { return runFly(*o); });
 }

@@ -52,8 +52,17 @@ FlyResult flyPath(render::Renderer& renderer, const std::vector<Camera>& frames,
                   bool progressive, const FlyProgress& progress = {});
 // The same with frames made one at a time (`frame(i)` for i in [0, count)): a long path is never
 // held whole.
+// `trafficTime(i)`, when given, is frame i's time on the traffic simulation's clock (seconds): the
+// renderer's traffic.time is set to it before the frame, so that the vehicles move while the camera
+// does (docs/traffic.md, "fly").
 FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Camera(int)>& frame,
-                  const std::string& outDir, bool progressive, const FlyProgress& progress = {});
+                  const std::string& outDir, bool progressive, const FlyProgress& progress = {},
+                  const std::function<double(int)>& trafficTime = {});
+
+// The traffic's clock at frame i of a path flown at `fps`: frame i is at i / fps seconds after the
+// path's first key (hv::PathFrames), so the clock reads start + scale * i / fps. `start` is the
+// setting `time` (--time), `scale` fly's --time-scale (0: the traffic stands still).
+double flyTrafficTime(int frame, double fps, double start, double scale);
 
 // One line of the progress bar, starting with '\r' so that each redraws the last:
 // "\r[########------------] frame 12/100  12%   85 ms/frame  ETA 0:07".

@@ -4,12 +4,15 @@
 #include "hv/app/fly_command.h"
 
 #include "hv/camera/camera_path.h"
-#include "hv/render/testing/gl_test_support.h"
+#include "hv/image/image.h"
 #include "hv/image/native/png_write.h"
+#include "hv/render/testing/gl_test_support.h"
+#include "hv/traffic/trajectories.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
 
 namespace hv::app {
 namespace {
@@ -172,6 +175,61 @@ TEST(FlyCommand, ProgressLineAndFfmpegArguments) {
   EXPECT_EQ(args, expected);
   EXPECT_FALSE(findOnPath("sh").empty());
   EXPECT_TRUE(findOnPath("histoview-no-such-program").empty());
+}
+
+// fly with the traffic's clock: a car driving up the street, the camera standing still on a
+// two-key path flown at 1 fps. Frame i is rendered at --time + time-scale * i / fps (here 2 s and
+// 5 s): each frame is the picture rendered directly at its time, and the car has moved between
+// the two.
+TEST_F(FlyGlTest, VehiclesMoveWithThePathsClock) {
+  const glm::dvec3 o = kStreetOrigin;
+  auto traffic = std::make_shared<Trajectories>();
+  Trajectory car;
+  car.id = "car0";
+  car.type = "passenger";
+  car.size = vehicleSizeOf("passenger");
+  car.samples = {{0.0, glm::dvec2(o) + glm::dvec2(1.5, -4.0), 0.0}, {10.0, glm::dvec2(o) + glm::dvec2(1.5, 8.0), 0.0}};
+  traffic->vehicles.push_back(car);
+  traffic->tEnd = 10.0;
+  scene_.traffic = traffic;
+  const Camera cam = testing::lookAt("k", o + glm::dvec3(-3, -16, 4), o + glm::dvec3(1, 10, 0), 64, 48, 52);
+  const CameraPath still(std::vector<PathKey>{{cam, 0.0}, {cam, 1.0}});
+  const std::vector<Camera> frames = pathFrames(still, 1.0);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_DOUBLE_EQ(flyTrafficTime(1, 1.0, 2.0, 3.0), 5.0);
+  EXPECT_DOUBLE_EQ(flyTrafficTime(4, 2.0, 2.0, 0.0), 2.0);
+
+  Diagnostics diag;
+  render::Renderer renderer(scene_, settings_, diag);
+  const FlyResult r = flyPath(
+      renderer, 2, [&](int i) { return frames[size_t(i)]; }, dir_ + "/traffic", false, {},
+      [](int i) { return flyTrafficTime(i, 1.0, 2.0, 3.0); });
+  ASSERT_EQ(r.frames, 2);
+  const Image8 f0 = readImage(dir_ + "/traffic/" + frames[0].id + ".png");
+  const Image8 f1 = readImage(dir_ + "/traffic/" + frames[1].id + ".png");
+  // The same pictures rendered directly at 2 s and 5 s, and the empty street.
+  auto at = [&](double t, bool enabled) {
+    render::Renderer direct(scene_, settings_, diag);
+    direct.settings().traffic.time = t;
+    direct.settings().traffic.enabled = enabled;
+    return rgbOf(direct.render(cam).rgba);
+  };
+  const Image8 at2 = at(2.0, true), at5 = at(5.0, true), empty = at(2.0, false);
+  EXPECT_EQ(f0.data, at2.data);
+  EXPECT_EQ(f1.data, at5.data);
+  // The car is in both frames, and not in the same place: pixels where one frame shows it and the
+  // other the empty street.
+  int onlyIn0 = 0, onlyIn1 = 0;
+  for (std::size_t k = 0; k < f0.data.size(); k += 3) {
+    const bool car0 =
+        f0.data[k] != empty.data[k] || f0.data[k + 1] != empty.data[k + 1] || f0.data[k + 2] != empty.data[k + 2];
+    const bool car1 =
+        f1.data[k] != empty.data[k] || f1.data[k + 1] != empty.data[k + 1] || f1.data[k + 2] != empty.data[k + 2];
+    onlyIn0 += car0 && !car1;
+    onlyIn1 += car1 && !car0;
+  }
+  EXPECT_GT(onlyIn0, 10);
+  EXPECT_GT(onlyIn1, 10);
 }
 
 }  // namespace

@@ -9,11 +9,14 @@
 #include <set>
 
 #include "hv/demo/demo_city.h"
+#include "hv/demo/vehicle_models.h"
 #include "hv/io/native/las_reader.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
+#include "hv/io/native/scene_loader.h"
 #include "hv/io/native/sumo_fcd.h"
 #include "hv/scene/native/lod1.h"
+#include "hv/traffic/vehicle_model.h"
 
 namespace hv::demo {
 namespace {
@@ -321,6 +324,19 @@ TEST_F(DemoCity, TrafficSimulatedOnTheStreetsAndReadBack) {
   const nlohmann::json scene = nlohmann::json::parse(sceneFile);
   ASSERT_TRUE(scene.contains("traffic"));
   EXPECT_EQ(scene["traffic"]["fcd"], "fcd.xml");
+  // The vehicles' models made by code, named by scene.json and loaded with the scene, no error.
+  for (const VehicleClass c : generatedVehicleClasses()) {
+    const std::string name = vehicleClassName(c);
+    EXPECT_EQ(scene["traffic"]["models"][name], "vehicles/" + name + ".gltf");
+  }
+  {
+    Diagnostics loaded;
+    const Scene s = loadScene((*dir_ / "scene.json").string(), loaded);
+    ASSERT_NE(s.traffic, nullptr);
+    ASSERT_NE(s.traffic->models, nullptr);
+    EXPECT_TRUE(loaded.errors.empty()) << loaded.errors.front();
+    EXPECT_EQ(s.traffic->models->of(VehicleClass::Bus).source, (*dir_ / "vehicles" / "bus.gltf").string());
+  }
   const glm::dvec2 offset(scene["traffic"]["offset"][0].get<double>(), scene["traffic"]["offset"][1].get<double>());
   Diagnostics diag;
   const Trajectories t = readSumoFcd((*dir_ / "fcd.xml").string(), diag);

@@ -10,6 +10,7 @@
 
 #include "hv/demo/city_files.h"
 #include "hv/demo/demo_city.h"
+#include "hv/demo/vehicle_models.h"
 #include "hv/image/native/png_write.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/las_writer.h"
@@ -129,7 +130,14 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   TrafficResult traffic;
   if (options.traffic.enabled) {
     traffic = simulateTraffic(world, options.traffic, dir.string());
-    if (traffic.ok) sceneJson["traffic"] = {{"fcd", "fcd.xml"}, {"offset", {traffic.offset.x, traffic.offset.y}}};
+    if (traffic.ok) {
+      sceneJson["traffic"] = {{"fcd", "fcd.xml"}, {"offset", {traffic.offset.x, traffic.offset.y}}};
+      // The vehicles' models (docs/traffic.md): a car, a bus and a truck made by code.
+      json models = json::object();
+      for (const std::string& name : writeVehicleModels((dir / "vehicles").string()))
+        models[name.substr(0, name.size() - 5)] = "vehicles/" + name;
+      sceneJson["traffic"]["models"] = models;
+    }
     say("demo city: traffic: " + traffic.message + (traffic.ok ? "" : " (the scene has no traffic)"));
   }
   writeJson(dir / "scene.json", sceneJson);

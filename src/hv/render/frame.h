@@ -9,11 +9,13 @@
 #include "hv/ibr/frame_plan.h"
 #include "hv/render/renderer.h"
 #include "hv/render/untextured.h"
+#include "hv/traffic/vehicle_model.h"
 
 #include <glm/glm.hpp>
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace hv::render {
@@ -134,6 +136,7 @@ struct VehicleInstance {
   glm::vec3 right{1.0f, 0.0f, 0.0f}, forward{0.0f, 1.0f, 0.0f}, up{0.0f, 0.0f, 1.0f};  // unit axes
   glm::vec3 size{4.5f, 1.8f, 1.5f};  // length, width, height
   glm::vec3 colour{0.5f};            // body colour, linear [0, 1]
+  int model = 0;                     // its class (hv::VehicleClass): the model it is drawn with
 };
 
 // The traffic drawn over the picture, depth-tested against the view's depth (pinhole views only:
@@ -141,6 +144,8 @@ struct VehicleInstance {
 // Lit as the untextured surfaces (Frame::untextured: its sun, sky and ground light).
 struct TrafficDraw {
   std::vector<VehicleInstance> vehicles;
+  // The model of each class (Trajectories::models); null: the built-in box with wheels for all.
+  std::shared_ptr<const VehicleModels> models;
 };
 
 struct Frame {

@@ -493,6 +493,7 @@ void FrameBuilder::trafficOfFrame(Frame& f) {
     return;
   }
   f.traffic.vehicles = vehicleInstances(*scene_.traffic, *terrainHeight_, settings_.traffic.time, scene_.origin);
+  f.traffic.models = scene_.traffic->models;
 }
 
 void FrameBuilder::viewPassesDone(const Frame& f, const ViewPassStats& s) {

@@ -7,15 +7,6 @@
 
 namespace hv::render {
 
-const std::array<VehiclePart, 2>& vehicleParts() {
-  // The body from a ground clearance to the belt line, the cabin set back from the bonnet.
-  static const std::array<VehiclePart, 2> parts = {
-      VehiclePart{{-0.5f, -0.5f, 0.12f}, {0.5f, 0.5f, 0.58f}, false},
-      VehiclePart{{-0.44f, -0.30f, 0.58f}, {0.44f, 0.22f, 1.0f}, true},
-  };
-  return parts;
-}
-
 glm::vec3 vehicleColour(const std::string& id) {
   static const glm::vec3 kPaints[] = {{0.75f, 0.08f, 0.06f}, {0.85f, 0.85f, 0.82f}, {0.10f, 0.12f, 0.14f},
                                       {0.12f, 0.25f, 0.60f}, {0.55f, 0.57f, 0.60f}, {0.90f, 0.70f, 0.10f},
@@ -40,41 +31,17 @@ std::vector<VehicleInstance> vehicleInstances(const Trajectories& traffic, const
     i.up = glm::vec3(pose->worldFromVehicle[2]);
     i.size = glm::vec3(float(v.size.length), float(v.size.width), float(v.size.height));
     i.colour = vehicleColour(v.id);
+    i.model = int(vehicleClassOf(v.type));
     out.push_back(i);
   }
   return out;
 }
 
-OrientedBox partBox(const VehicleInstance& v, const VehiclePart& part) {
-  // Fractions of (width, length, height) along (right, forward, up).
-  const glm::dvec3 scale(v.size.y, v.size.x, v.size.z);
-  const glm::dvec3 lo = glm::dvec3(part.lo) * scale, hi = glm::dvec3(part.hi) * scale;
-  const glm::dvec3 c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
-  OrientedBox b;
-  b.centre = glm::dvec3(v.position) + c.x * glm::dvec3(v.right) + c.y * glm::dvec3(v.forward) + c.z * glm::dvec3(v.up);
-  b.halfAxes = {h.x * glm::dvec3(v.right), h.y * glm::dvec3(v.forward), h.z * glm::dvec3(v.up)};
-  return b;
-}
-
-double rayBoxEntry(const OrientedBox& box, const glm::dvec3& origin, const glm::dvec3& dir) {
-  // Slabs along each of the box's axes.
-  double tNear = -std::numeric_limits<double>::infinity(), tFar = std::numeric_limits<double>::infinity();
-  for (const glm::dvec3& a : box.halfAxes) {
-    const double len = glm::length(a);
-    const glm::dvec3 n = a / len;
-    const double o = glm::dot(box.centre - origin, n), d = glm::dot(dir, n);
-    if (std::abs(d) < 1e-12) {
-      if (std::abs(o) > len) return -1.0;
-      continue;
-    }
-    double t0 = (o - len) / d, t1 = (o + len) / d;
-    if (t0 > t1) std::swap(t0, t1);
-    tNear = std::max(tNear, t0);
-    tFar = std::min(tFar, t1);
-    if (tNear > tFar) return -1.0;
-  }
-  if (tFar < 0.0) return -1.0;
-  return std::max(tNear, 0.0);
+double rayVehicleEntry(const VehicleInstance& v, const VehicleModels* models, const glm::dvec3& origin,
+                       const glm::dvec3& dir) {
+  const VehicleModel& m = models ? models->of(VehicleClass(v.model)) : boxWithWheelsModel();
+  return rayModelEntry(m, glm::dvec3(v.position), glm::dvec3(v.right), glm::dvec3(v.forward), glm::dvec3(v.up),
+                       glm::dvec3(v.size), origin, dir);
 }
 
 }  // namespace hv::render

@@ -72,8 +72,9 @@ TEST_F(VehiclesGlTest, HiddenBehindABuildingAndHidingAFacade) {
   ASSERT_EQ(with.rgba.width, 240);
   ASSERT_EQ(without.rgba.width, 240);
 
-  // The CPU reference: the scene's surfaces by ray casting, the vehicles' boxes as placed on the
-  // terrain (render/vehicles.h), in the render frame.
+  // The CPU reference: the scene's surfaces by ray casting, the vehicles' models (the built-in box
+  // with wheels) as placed on the terrain (render/vehicles.h), in the render frame.
+  const VehicleModels* models = nullptr;
   Mesh all = scene.terrain;
   all.append(scene.buildings);
   const RayCaster caster(all);
@@ -86,14 +87,13 @@ TEST_F(VehiclesGlTest, HiddenBehindABuildingAndHidingAFacade) {
     const auto hit = caster.intersect(view.center, dir, 0.0, 1e9);
     const double tScene = hit ? hit->t : std::numeric_limits<double>::infinity();
     double tVehicle = std::numeric_limits<double>::infinity();
-    for (size_t i = 0; i < vehicles.size(); ++i)
-      for (const VehiclePart& part : vehicleParts()) {
-        const double t = rayBoxEntry(partBox(vehicles[i], part), view.center - scene.origin, dir);
-        if (t >= 0.0 && t < tVehicle) {
-          tVehicle = t;
-          if (which) *which = int(i);
-        }
+    for (size_t i = 0; i < vehicles.size(); ++i) {
+      const double t = rayVehicleEntry(vehicles[i], models, view.center - scene.origin, dir);
+      if (t >= 0.0 && t < tVehicle) {
+        tVehicle = t;
+        if (which) *which = int(i);
       }
+    }
     if (!std::isfinite(tVehicle)) return Seen::None;
     return tVehicle < tScene ? Seen::Vehicle : Seen::Hidden;
   };

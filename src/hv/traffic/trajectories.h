@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -20,6 +21,7 @@
 namespace hv {
 
 struct Diagnostics;
+struct VehicleModels;  // hv/traffic/vehicle_model.h
 
 // A vehicle's box (metres): length along its heading, width across, height above the ground.
 struct VehicleSize {
@@ -48,6 +50,9 @@ struct Trajectory {
 struct Trajectories {
   std::vector<Trajectory> vehicles;
   double tBegin = 0.0, tEnd = 0.0;  // first and last sample over all vehicles (0, 0 when none)
+  // The model each vehicle class is drawn with (scene.json traffic.models); null, or a null class:
+  // the built-in box with wheels.
+  std::shared_ptr<const VehicleModels> models;
   std::size_t samples() const;
 };
 

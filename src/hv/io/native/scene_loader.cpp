@@ -9,6 +9,7 @@
 #include "hv/io/native/colmap_cameras.h"
 #include "hv/io/native/footprints.h"
 #include "hv/io/native/georef.h"
+#include "hv/io/native/gltf_model.h"
 #include "hv/io/native/itowns_cameras.h"
 #include "hv/io/native/las_reader.h"
 #include "hv/io/native/mesh_reader.h"
@@ -226,7 +227,7 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
       {"mesh", {"path", "crs"}},
       {"points", {"path", "crs", "normals"}},
       {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table"}},
-      {"traffic", {"fcd", "csv", "crs", "offset"}}};
+      {"traffic", {"fcd", "csv", "crs", "offset", "models"}}};
   std::vector<std::string> bad;
   for (const std::string& m : unknownKeys(doc, kTop)) bad.push_back(m);
   for (const auto& [source, keys] : kSources)
@@ -237,6 +238,37 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
   for (const std::string& b : bad) list += (list.empty() ? "" : "; ") + b;
   throw InputError(path + ": " + list +
                    " (this version reads only the keys of docs/formats.md; the scene is not loaded)");
+}
+
+// scene.json "traffic.models" (docs/traffic.md): a glTF file per vehicle class, {"car": "car.gltf",
+// "bus": ...}. A file that cannot be read is reported, naming it and what was expected, and its
+// class is drawn as the built-in box with wheels; a malformed entry throws (the traffic left out).
+std::shared_ptr<const VehicleModels> loadVehicleModels(const json& m, const std::string& dir, const std::string& path,
+                                                       Diagnostics& diag) {
+  std::string classes;
+  for (int c = 0; c < kVehicleClasses; ++c) classes += std::string(c ? ", " : "") + vehicleClassName(VehicleClass(c));
+  if (!m.is_object())
+    throw InputError(path + ": traffic.models: expected an object of glTF paths by vehicle class (" + classes + ")");
+  auto models = std::make_shared<VehicleModels>();
+  for (const auto& [key, value] : m.items()) {
+    int cls = -1;
+    for (int c = 0; c < kVehicleClasses; ++c)
+      if (key == vehicleClassName(VehicleClass(c))) cls = c;
+    if (cls < 0) throw InputError(path + ": traffic.models." + key + ": expected one of the classes " + classes);
+    if (!value.is_string() || value.get<std::string>().empty())
+      throw InputError(path + ": traffic.models." + key + ": expected a string path to a glTF file");
+    const fs::path rel = value.get<std::string>();
+    const std::string file = (rel.is_absolute() ? rel : fs::path(dir) / rel).lexically_normal().string();
+    try {
+      models->byClass[std::size_t(cls)] = std::make_shared<const VehicleModel>(readGltfVehicle(file));
+      log::debug("traffic: " + key + ": " + file + ": " +
+                 std::to_string(models->byClass[std::size_t(cls)]->vertices.size() / 3) + " triangles");
+    } catch (const InputError& e) {
+      diag.error("traffic.models." + key + ": " + e.what() + " (the " + key +
+                 " class drawn as the built-in box with wheels)");
+    }
+  }
+  return models;
 }
 
 // scene.json "traffic" (docs/traffic.md): SUMO FCD (`fcd`) or CSV (`csv`) trajectories; `offset`
@@ -288,6 +320,7 @@ void loadTraffic(Scene& scene, const json& doc, const std::string& dir, const st
   log::debug("traffic: " + file + ": " + std::to_string(traj.vehicles.size()) + " vehicles, " +
              std::to_string(traj.samples()) + " samples, t in [" + std::to_string(traj.tBegin) + ", " +
              std::to_string(traj.tEnd) + "] s");
+  if (t.contains("models")) traj.models = loadVehicleModels(t["models"], dir, path, diag);
   scene.trafficPath = file;
   scene.traffic = std::make_shared<const Trajectories>(std::move(traj));
 }

@@ -13,9 +13,11 @@
 #include "hv/gpu/gl.h"
 #include "hv/render/backend.h"
 #include "hv/render/gl/programs.h"
+#include "hv/traffic/vehicle_model.h"
 #include "hv/util/diagnostics.h"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace hv::render::gl {
@@ -91,6 +93,7 @@ class GlBackend final : public Backend {
   void frustaPass(const Frame& f);
   // vehicles_pass.cpp
   void vehiclesPass(const Frame& f);
+  void vehicleShapes(const std::shared_ptr<const VehicleModels>& models);
 
   Diagnostics& diag_;
   gpu::GlLimits limits_;
@@ -139,9 +142,18 @@ class GlBackend final : public Backend {
 
   // The traffic (vehicles_pass.cpp), linked on first use.
   VehicleProgram vehicleProgram_;
-  gpu::VertexArray vehicleVao_;
-  gpu::Buffer vehicleShape_, vehicleInstances_;
-  int vehicleShapeVertices_ = 0;
+  VehicleDepthProgram vehicleDepthProgram_;
+  // The view's depth in the rasteriser's encoding, the traffic's depth buffer (vehicles_pass.cpp).
+  gpu::Texture vehicleDepth_;
+  glm::ivec2 vehicleDepthSize_{0};
+  // One vertex array per vehicle class's model, and the shadow quad's last.
+  std::array<gpu::VertexArray, kVehicleClasses + 1> vehicleVaos_;
+  std::array<gpu::Buffer, kVehicleClasses + 1> vehicleShapes_;
+  std::array<int, kVehicleClasses + 1> vehicleShapeVertices_{};
+  std::shared_ptr<const VehicleModels> vehicleModels_;  // what vehicleShapes_ hold
+  bool vehicleShapesBuilt_ = false;
+  gpu::Buffer vehicleInstances_;
+  std::vector<VehicleInstance> vehicleSorted_;  // the frame's vehicles by class
   bool warnedDebugNaive_ = false;
 };
 

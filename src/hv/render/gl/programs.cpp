@@ -45,6 +45,7 @@ const ProgramSources& programs() {
       {"fullscreen.vert", "debug_depth.frag", {}},
       {"lines.vert", "lines.frag", {}},
       {"vehicles.vert", "vehicles.frag", {}},
+      {"fullscreen.vert", "vehicle_depth.frag", {}},
   };
   return p;
 }
@@ -197,15 +198,20 @@ LinesProgram::LinesProgram(const ProgramSource& src) : program(linkProgram(src))
 VehicleProgram::VehicleProgram(const ProgramSource& src) : program(linkProgram(src)) {
   const gpu::UniformResolver u(program, programName(src, {}));
   clipFromRender = u.required("u_clipFromRender");
-  near = u.required("u_near");
-  far = u.required("u_far");
   sunDir = u.required("u_sunDir");
   skyLight = u.required("u_skyLight");
   groundLight = u.required("u_groundLight");
   sunLight = u.required("u_sunLight");
-  glass = u.required("u_glass");
+  shadow = u.required("u_shadow");
   shadowOpacity = u.required("u_shadowOpacity");
   shadowLift = u.required("u_shadowLift");
+}
+
+VehicleDepthProgram::VehicleDepthProgram(const ProgramSource& src) : program(linkProgram(src)) {
+  const gpu::UniformResolver u(program, programName(src, {}));
+  viewDepth = u.required("u_viewDepth");
+  near = u.required("u_near");
+  far = u.required("u_far");
 }
 
 }  // namespace gl
@@ -213,9 +219,8 @@ VehicleProgram::VehicleProgram(const ProgramSource& src) : program(linkProgram(s
 const std::vector<ProgramSource>& programSources() {
   static const std::vector<ProgramSource> list = [] {
     const gl::ProgramSources& p = gl::programs();
-    return std::vector<ProgramSource>{p.depth,      p.viewDepth,  p.shade,     p.tileDepth,  p.naive,
-                                      p.pointDepth, p.pointColor, p.pointMat3, p.debugDepth, p.lines,
-                                      p.vehicles};
+    return std::vector<ProgramSource>{p.depth,      p.viewDepth, p.shade,      p.tileDepth, p.naive,    p.pointDepth,
+                                      p.pointColor, p.pointMat3, p.debugDepth, p.lines,     p.vehicles, p.vehicleDepth};
   }();
   return list;
 }

@@ -24,7 +24,8 @@ struct ProgramSources {
   ProgramSource pointMat3;   // the 2016 form (the renderer picks K)
   ProgramSource debugDepth;  // DebugView::DepthMap
   ProgramSource lines;       // DebugSettings::frusta
-  ProgramSource vehicles;    // the traffic's boxes and contact shadows
+  ProgramSource vehicles;    // the traffic's models and contact shadows
+  ProgramSource vehicleDepth;  // the view's linear depth as the rasteriser's, for the traffic
 };
 const ProgramSources& programs();
 
@@ -101,14 +102,23 @@ struct LinesProgram {
   explicit LinesProgram(const ProgramSource& src);
 };
 
-// vehicles.vert + vehicles.frag: the traffic, instanced boxes lit by sun and sky, and a contact
-// shadow under each.
+// vehicles.vert + vehicles.frag: the traffic, each class's model instanced and lit by sun and sky,
+// and a contact shadow under each vehicle.
 struct VehicleProgram {
   gpu::Program program;
-  GLint clipFromRender = -1, near = -1, far = -1, sunDir = -1, skyLight = -1, groundLight = -1, sunLight = -1,
-        glass = -1, shadowOpacity = -1, shadowLift = -1;
+  GLint clipFromRender = -1, sunDir = -1, skyLight = -1, groundLight = -1, sunLight = -1, shadow = -1,
+        shadowOpacity = -1, shadowLift = -1;
   VehicleProgram() = default;
   explicit VehicleProgram(const ProgramSource& src);
+};
+
+// fullscreen.vert + vehicle_depth.frag: the view's linear depth rewritten as the rasteriser's
+// depth of the same projection, so that the vehicles are drawn without gl_FragDepth.
+struct VehicleDepthProgram {
+  gpu::Program program;
+  GLint viewDepth = -1, near = -1, far = -1;
+  VehicleDepthProgram() = default;
+  explicit VehicleDepthProgram(const ProgramSource& src);
 };
 
 }  // namespace hv::render::gl
