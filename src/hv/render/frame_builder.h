@@ -80,7 +80,8 @@ class FrameBuilder {
   int prepareDebugPhoto(FrameMode mode);
   void drawDepthMaps(Frame& frame, int debugSlot);
   void streamTerrain(Frame& frame, int debugSlot);
-  std::vector<std::uint64_t> visibleTerrain(const std::vector<TerrainNodeId>& cut, const glm::dmat4& clipFromRender) const;
+  std::vector<std::uint64_t> visibleTerrain(const std::vector<TerrainNodeId>& cut,
+                                            const glm::dmat4& clipFromRender) const;
   void packParams(Frame& frame);
   void trafficOfFrame(Frame& frame);
   void applyLiveSettings();

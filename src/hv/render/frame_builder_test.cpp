@@ -5,8 +5,8 @@
 #include "hv/render/frame_builder.h"
 
 #include "hv/image/native/png_write.h"
-#include "hv/scene/chunks.h"
 #include "hv/render/null_backend.h"
+#include "hv/scene/chunks.h"
 #include "hv/scene/terrain_quadtree.h"
 
 #include <gtest/gtest.h>
@@ -455,8 +455,8 @@ TEST_F(FrameBuilderTest, StreamedTerrainRedrawsDepthMapsOnlyWhenTilesChange) {
   scene_.terrainTiles =
       std::make_shared<TerrainQuadtree>(std::make_shared<HeightfieldTerrainSource>(h), TerrainTileOptions{8});
   scene_.terrain = scene_.terrainTiles->mesh({TerrainQuadtree::root()});
-  settings_.geometryThreads = 0;  // one tile a progressive frame, on this thread
-  settings_.depthMapsPerFrame = 0;  // every dirty map at once, so a frame's redraws are its own
+  settings_.geometryThreads = 0;         // one tile a progressive frame, on this thread
+  settings_.depthMapsPerFrame = 0;       // every dirty map at once, so a frame's redraws are its own
   settings_.geometryTolerancePx = 0.05;  // fine enough for the small view to refine a few levels
   FrameBuilder builder(scene_, settings_, diag_, backend_);
   EXPECT_TRUE(backend_.geometry.tiles.empty() ||

@@ -100,7 +100,7 @@ class TerrainStream {
   bool boxOf(TerrainNodeId id, glm::vec3& lo, glm::vec3& hi) const;
   std::size_t residentTiles() const { return resident_.size(); }
   std::size_t trianglesOf(TerrainNodeId id) const;  // a resident tile's (0: not resident)
-  std::size_t pendingTiles() const;  // queued, being read, or read and not collected
+  std::size_t pendingTiles() const;                 // queued, being read, or read and not collected
   std::size_t residentBytes() const { return residentBytes_; }
   // What this frame's cuts reserve so far (tileBytesBound of every tile they use).
   std::size_t frameBytes() const { return frameBytes_; }
@@ -115,7 +115,7 @@ class TerrainStream {
  private:
   struct Resident {
     std::shared_ptr<const TerrainTile> tile;
-    std::size_t bytes = 0;    // actual: mesh + samples
+    std::size_t bytes = 0;         // actual: mesh + samples
     glm::vec3 lo{0.0f}, hi{0.0f};  // the mesh's box (skirts included), render frame
     std::size_t triangles = 0;
     std::uint64_t lastUsed = 0;

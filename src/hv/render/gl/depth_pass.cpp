@@ -55,8 +55,8 @@ void GlBackend::drawDepthMap(const DepthMapJob& job) {
   glReadBuffer(GL_NONE);
   gpu::checkFramebuffer("depth map");
   glViewport(0, 0, job.size, job.size);
-  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.draws,
-            job.terrainTiles, job.pushBack, job.centerRender);
+  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.draws, job.terrainTiles,
+            job.pushBack, job.centerRender);
   if (job.withPoints) {
     // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
     glEnable(GL_DEPTH_TEST);
@@ -93,8 +93,8 @@ void GlBackend::viewDepthPass(const Frame& f) {
   const GLfloat noBuilding[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, noBuilding);
   // The view shows today's geometry: every surface, whatever its dates.
-  drawDepth(viewDepthProgram_, f.rect.clipFromRender, f.rect.frustum.near, f.rect.frustum.far, DateInterval{},
-            f.draws, f.terrainTiles, 0.0, glm::dvec3(0.0));
+  drawDepth(viewDepthProgram_, f.rect.clipFromRender, f.rect.frustum.near, f.rect.frustum.far, DateInterval{}, f.draws,
+            f.terrainTiles, 0.0, glm::dvec3(0.0));
 }
 
 }  // namespace hv::render::gl

@@ -71,9 +71,9 @@ class GlBackend final : public Backend {
  private:
   bool naive() const { return layout_.binding == Binding::Naive; }
   // depth_pass.cpp
-  void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
-                 const DateInterval& date, const std::vector<DrawRange>& draws,
-                 const std::vector<std::uint64_t>& terrainTiles, double pushBack, glm::dvec3 centerRender);
+  void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far, const DateInterval& date,
+                 const std::vector<DrawRange>& draws, const std::vector<std::uint64_t>& terrainTiles, double pushBack,
+                 glm::dvec3 centerRender);
   void drawRanges(const std::vector<DrawRange>& draws);
   void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
   void viewDepthPass(const Frame& f);
