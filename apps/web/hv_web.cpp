@@ -305,6 +305,7 @@ class WebViewer {
   render::RenderSettings rendererSettings() const {
     render::RenderSettings s = settings_;
     s.decodeThreads = 0;
+    s.geometryThreads = 0;
     s.readBackColour = false;
     for (size_t i = 0; scene_ && i < scene_->photos.size(); ++i)
       if (!arrivedPhoto_[i]) s.blend.exclude.push_back(scene_->photos[i].camera.id);
@@ -318,6 +319,7 @@ class WebViewer {
     s.memoryBudgetBytes = std::size_t(384) << 20;
     s.decodeMemoryBytes = std::size_t(96) << 20;
     s.decodeThreads = 0;
+    s.geometryThreads = 0;
     return s;
   }
 

@@ -186,6 +186,11 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
               << " (screen-space error <= " << t.tolerancePx << " px from the photographs' cameras, budget "
               << t.triangleBudget << " triangles" << (t.budgetLimited ? ", reached" : "") << "); levels read from "
               << t.reads << "\n";
+    const render::RenderSettings defaults;
+    std::cout << "  streamed per view when rendering: each camera's own cut (screen-space error <= "
+              << defaults.geometryTolerancePx << " px, --geometry-tolerance), tiles read by "
+              << defaults.geometryThreads << " threads (--geometry-threads) within "
+              << (defaults.geometryMemoryBytes >> 20) << " MiB (--geometry-memory), least recently used evicted\n";
   }
   const std::optional<double> ground = groundPlaneHeight(scenePath);
   if (ground) std::cout << "  a ground plane at height " << *ground << " (terrain.height), no DTM\n";

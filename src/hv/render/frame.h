@@ -88,6 +88,9 @@ struct DepthMapJob {
   // The index ranges to draw: the tiles of those layers that its frustum may see (merged).
   std::vector<DrawRange> draws;
   int tiles = 0;                  // the tiles in `draws`
+  // Streamed terrain tiles to draw after `draws` (Backend::uploadTerrainTile ids): the photograph's
+  // own cut (render/terrain_stream.h), those of its tiles its frustum may see.
+  std::vector<std::uint64_t> terrainTiles;
   bool withPoints = false;        // non-transient points refine the occlusion (2016 §4.2, 2022 §2.4)
   PointPass points;
 };
@@ -169,6 +172,7 @@ struct Frame {
   ViewRect rect;
   std::array<bool, kLayerCount> layers{true, true, true};
   std::vector<DrawRange> draws;   // the view's geometry: the tiles its frustum may see (merged)
+  std::vector<std::uint64_t> terrainTiles;  // streamed terrain tiles of the view's cut it may see
   ViewPoints points;
   bool culling = false;           // per-tile image lists (ibr/tile_culling.h)
   int tileSize = 16;

@@ -11,6 +11,7 @@
 #include "hv/ibr/slot_cache.h"
 #include "hv/render/backend.h"
 #include "hv/render/frame.h"
+#include "hv/render/terrain_stream.h"
 #include "hv/util/diagnostics.h"
 
 #include <memory>
@@ -40,7 +41,9 @@ class FrameBuilder {
   // Makes the images a view needs resident without building a frame.
   void preload(const Camera& view);
 
-  bool converged() const { return stats_.imagesWaiting == 0 && !debugWaiting_; }
+  bool converged() const { return stats_.imagesWaiting == 0 && !debugWaiting_ && terrainMissing_ == 0; }
+  // The streamed terrain (null without Scene::terrainTiles).
+  const TerrainStream* terrainStream() const { return terrain_.get(); }
   const ibr::FramePlan& lastPlan() const { return plan_; }
   const std::vector<ibr::ImageParams>& lastImageParams() const { return params_; }
   ibr::SliceSize sliceSize() const { return layout_.slice; }
@@ -76,6 +79,9 @@ class FrameBuilder {
   ibr::BlendSettings frameBlendSettings();
   int prepareDebugPhoto(FrameMode mode);
   void drawDepthMaps(Frame& frame, int debugSlot);
+  void streamTerrain(Frame& frame, int debugSlot);
+  std::vector<std::uint64_t> visibleTerrain(const std::vector<TerrainNodeId>& cut,
+                                            const glm::dmat4& clipFromRender) const;
   void packParams(Frame& frame);
   void trafficOfFrame(Frame& frame);
   void applyLiveSettings();
@@ -128,6 +134,11 @@ class FrameBuilder {
   int mat3K_ = 0;
   std::vector<double> chunkSpacing_;  // mean point spacing of each chunk, scene units
   std::vector<GeometryTile> tiles_;   // the geometry's tiles (render/geometry_tiles.h)
+  // The streamed terrain (Scene::terrainTiles): each slot's cut as of this frame and as its depth
+  // map was drawn (a change marks the map dirty), the tiles this frame's cuts wait for.
+  std::unique_ptr<TerrainStream> terrain_;
+  std::vector<std::vector<TerrainNodeId>> slotCut_, slotCutDrawn_;
+  int terrainMissing_ = 0;
 
   ibr::FramePlan plan_;
   std::vector<ibr::ImageParams> params_;

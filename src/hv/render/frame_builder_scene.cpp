@@ -33,7 +33,10 @@ void FrameBuilder::buildGeometry() {
   GeometryBuffers g;
   constexpr int kStride = GeometryBuffers::kStride;
   const glm::vec2 always = ibr::gpuDays(DateInterval{});
-  const std::array<const Mesh*, kLayerCount> layers = {&scene_.terrain, &scene_.buildings, &scene_.mesh};
+  // A streamed terrain (render/terrain_stream.h) is drawn from its own tiles, not from the buffer.
+  static const Mesh kNone;
+  const std::array<const Mesh*, kLayerCount> layers = {scene_.terrainTiles ? &kNone : &scene_.terrain,
+                                                       &scene_.buildings, &scene_.mesh};
   // The tile grid covers the inliers' ground extent (one absurd vertex does not stretch it).
   const Aabb inliers = robustExtent(scene_).bounds;
   std::size_t triangles = 0;
@@ -72,6 +75,9 @@ void FrameBuilder::buildGeometry() {
                      g.indices, g.tiles, isBuildings ? scene_.tileOfBuilding : kNoTags);
     bounds_.extend(m->bounds());
   }
+  // The load-time cut's box stands for the streamed terrain's (finer tiles stay within about the
+  // tolerance of it; its skirts reach below).
+  if (scene_.terrainTiles) bounds_.extend(scene_.terrain.bounds());
   tiles_ = g.tiles;
   stats_.geometryTiles = int(tiles_.size());
   // Padded so that flat geometry (a single wall, flat ground) still has a volume to sample.

@@ -5,8 +5,9 @@
 #include "hv/render/frame_builder.h"
 
 #include "hv/image/native/png_write.h"
-#include "hv/scene/chunks.h"
 #include "hv/render/null_backend.h"
+#include "hv/scene/chunks.h"
+#include "hv/scene/terrain_quadtree.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -438,6 +439,55 @@ TEST_F(FrameBuilderTest, CullingKeepsEveryTriangleAFrustumSees) {
   ASSERT_EQ(all.draws.size(), 1u);
   EXPECT_EQ(all.draws[0].count, int(g.indices.size()));
   EXPECT_EQ(builder.stats().tilesDrawn, builder.stats().geometryTiles);
+}
+
+// A streamed terrain (render/terrain_stream.h): a depth map is redrawn only in a frame where the
+// terrain tiles or the photographs changed (a tile arrived or was evicted, an image installed),
+// never otherwise, and once everything has arrived no map is redrawn.
+TEST_F(FrameBuilderTest, StreamedTerrainRedrawsDepthMapsOnlyWhenTilesChange) {
+  Heightfield h;
+  h.cols = h.rows = 129;
+  h.originX = -100.0, h.originY = 100.0;
+  h.cellX = 200.0 / 128, h.cellY = -200.0 / 128;
+  h.z.resize(size_t(h.cols) * h.rows);
+  for (int j = 0; j < h.rows; ++j)
+    for (int i = 0; i < h.cols; ++i) h.z[size_t(j) * h.cols + i] = float(4.0 * std::sin(0.2 * i) * std::cos(0.15 * j));
+  scene_.terrainTiles =
+      std::make_shared<TerrainQuadtree>(std::make_shared<HeightfieldTerrainSource>(h), TerrainTileOptions{8});
+  scene_.terrain = scene_.terrainTiles->mesh({TerrainQuadtree::root()});
+  settings_.geometryThreads = 0;         // one tile a progressive frame, on this thread
+  settings_.depthMapsPerFrame = 0;       // every dirty map at once, so a frame's redraws are its own
+  settings_.geometryTolerancePx = 0.05;  // fine enough for the small view to refine a few levels
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  EXPECT_TRUE(backend_.geometry.tiles.empty() ||
+              std::none_of(backend_.geometry.tiles.begin(), backend_.geometry.tiles.end(),
+                           [](const GeometryTile& t) { return t.layer == kLayerTerrain; }))
+      << "the streamed terrain is not in the static buffer";
+  int frames = 0, redrawFrames = 0;
+  for (; frames < 2000 && (frames == 0 || !builder.converged()); ++frames) {
+    const auto tilesBefore = backend_.terrainTiles;
+    const size_t uploadsBefore = backend_.uploads.size(), mapsBefore = backend_.depthMaps.size();
+    const Frame f = builder.build(view(), FrameMode::Progressive, false);
+    const bool changed = backend_.terrainTiles != tilesBefore || backend_.uploads.size() != uploadsBefore;
+    if (backend_.depthMaps.size() > mapsBefore) {
+      ++redrawFrames;
+      EXPECT_TRUE(changed) << "frame " << f.number << " redrew a depth map with nothing new";
+    }
+    for (size_t m = mapsBefore; m < backend_.depthMaps.size(); ++m)
+      for (std::uint64_t id : backend_.depthMaps[m].terrainTiles) EXPECT_TRUE(backend_.terrainTiles.count(id));
+    for (std::uint64_t id : f.terrainTiles) EXPECT_TRUE(backend_.terrainTiles.count(id));
+  }
+  ASSERT_TRUE(builder.converged());
+  EXPECT_GT(frames, 3);
+  EXPECT_GT(redrawFrames, 1);  // the maps followed the tiles as they arrived
+  EXPECT_EQ(builder.stats().terrainViewMissing, 0);
+  EXPECT_EQ(builder.stats().terrainTilesPending, 0);
+  EXPECT_EQ(size_t(builder.stats().terrainTilesResident), backend_.terrainTiles.size());
+  EXPECT_LE(builder.stats().terrainBytes, builder.stats().terrainBudgetBytes);
+  const size_t maps = backend_.depthMaps.size();
+  for (int i = 0; i < 3; ++i) builder.build(view(), FrameMode::Progressive, false);
+  EXPECT_EQ(backend_.depthMaps.size(), maps) << "nothing arrived: no depth map is redrawn";
+  EXPECT_TRUE(diag_.ok());
 }
 
 }  // namespace

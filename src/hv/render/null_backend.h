@@ -6,6 +6,7 @@
 
 #include "hv/render/backend.h"
 
+#include <map>
 #include <vector>
 
 namespace hv::render {
@@ -21,6 +22,12 @@ class NullBackend final : public Backend {
 
   BackendLimits limits() const override { return limits_; }
   void uploadGeometry(const GeometryBuffers& geometry) override;
+  void uploadTerrainTile(std::uint64_t id, const std::vector<float>& vertices,
+                         const std::vector<std::uint32_t>& indices) override {
+    terrainTiles[id] = int(indices.size() / 3);
+    (void)vertices;
+  }
+  void releaseTerrainTile(std::uint64_t id) override { terrainTiles.erase(id); }
   PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) override;
   void allocateSlots(const SlotLayout& layout) override { layout_ = layout; }
   void uploadImage(int slot, const Image8& slice) override { uploads.push_back({slot, slice.width, slice.height}); }
@@ -36,6 +43,7 @@ class NullBackend final : public Backend {
   int finishes = 0;
   int triangles = 0;          // uploaded geometry
   GeometryBuffers geometry;   // as uploaded
+  std::map<std::uint64_t, int> terrainTiles;  // streamed terrain tiles held: id -> triangles
   std::size_t points = 0;     // uploaded point vertices
   const SlotLayout& layout() const { return layout_; }
 

@@ -60,6 +60,16 @@ struct RenderStats {
   int tilesDrawn = 0;
   std::int64_t trianglesDrawn = 0;
   int depthMapTilesThisFrame = 0;
+  // Streamed terrain (render/terrain_stream.h; 0 without it): tiles resident, waiting to be read,
+  // their bytes and the most they held, the budget, evictions so far; the last view's cut.
+  int terrainTilesResident = 0;
+  int terrainTilesPending = 0;
+  std::size_t terrainBytes = 0, terrainPeakBytes = 0, terrainBudgetBytes = 0;
+  std::size_t terrainFrameBytes = 0;  // what the last frame's cuts reserved of the budget
+  std::size_t terrainEvictions = 0;
+  int terrainViewTiles = 0;
+  int terrainViewMissing = 0;  // tiles the view's cut waits for
+  bool streamingTerrain = false;
 };
 
 // Where a photograph stands in the renderer (the viewer's residency table).

@@ -142,6 +142,14 @@ struct RenderSettings {
   // decoded slices not yet uploaded never hold more than decodeMemoryBytes.
   int decodeThreads = 2;
   std::size_t decodeMemoryBytes = std::size_t(512) << 20;
+  // A DTM too large to mesh whole (Scene::terrainTiles) is streamed per view
+  // (render/terrain_stream.h): each camera (the view, each photograph's depth map) draws its own
+  // cut of the quadtree at geometryTolerancePx of screen-space error, its tiles read and
+  // triangulated by geometryThreads workers (0: on the render thread, as photographs with
+  // decodeThreads 0), kept within geometryMemoryBytes, the least recently used evicted.
+  int geometryThreads = 2;
+  std::size_t geometryMemoryBytes = std::size_t(256) << 20;
+  double geometryTolerancePx = 2.0;
   // Per-tile image lists (ibr/tile_culling.h): each pixel loops over the images that may cover its
   // tile instead of all the selected ones.
   bool tileCulling = true;

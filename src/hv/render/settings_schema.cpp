@@ -341,6 +341,15 @@ std::vector<Setting> makeSchema() {
   t.push_back(mebibytes("decode-memory", resources, "memory of decodes in flight and slices not yet uploaded",
                         [](auto& s) -> auto& { return s.decodeMemoryBytes; }).atLeast(1).slider(16, 4096, true).reload());
 
+  t.push_back(field("geometry-threads", resources, "threads reading and meshing streamed terrain tiles; 0: on the "
+                    "render thread", [](auto& s) -> auto& { return s.geometryThreads; }).range(0, 64).slider(0, 16).reload());
+  t.push_back(mebibytes("geometry-memory", resources, "memory of the streamed terrain tiles (GPU meshes and their "
+                        "samples); the least recently used are evicted",
+                        [](auto& s) -> auto& { return s.geometryMemoryBytes; }).atLeast(1).slider(16, 4096, true).reload());
+  t.push_back(field("geometry-tolerance", resources, "screen-space error a streamed terrain tile may have in the view "
+                    "and in each depth map", [](auto& s) -> auto& { return s.geometryTolerancePx; })
+                  .unit("px").above(0).slider(0.25, 32, true));
+
   std::vector<Setting> out;
   for (Entry& e : t) out.push_back(std::move(e.s));
   return out;

@@ -220,6 +220,24 @@ double TerrainQuadtree::surfaceAt(const TerrainTile& t, double i, double j) cons
 
 const TerrainTile& TerrainQuadtree::tile(TerrainNodeId id) {
   if (const auto it = tiles_.find(id); it != tiles_.end()) return it->second;
+  return tiles_.emplace(id, readTile(id)).first->second;
+}
+
+glm::ivec2 TerrainQuadtree::tileCellCount(TerrainNodeId id) const {
+  const int l = levelOf(id), n = options_.tileCells;
+  return {std::min(n, lastSampleX(l) - txOf(id) * n), std::min(n, lastSampleY(l) - tyOf(id) * n)};
+}
+
+glm::dvec4 TerrainQuadtree::footprint(TerrainNodeId id) const {
+  const int l = levelOf(id), n = options_.tileCells;
+  const glm::ivec2 cells = tileCellCount(id);
+  const int kx0 = txOf(id) * n, ky0 = tyOf(id) * n;
+  const glm::dvec2 a = grid_.position(samplePos(l, kx0, false), samplePos(l, ky0, true));
+  const glm::dvec2 b = grid_.position(samplePos(l, kx0 + cells.x, false), samplePos(l, ky0 + cells.y, true));
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::max(a.x, b.x), std::max(a.y, b.y)};
+}
+
+TerrainTile TerrainQuadtree::readTile(TerrainNodeId id) const {
   if (!exists(id)) throw std::invalid_argument("TerrainQuadtree::tile: no node " + std::to_string(id));
   TerrainTile t;
   t.level = levelOf(id), t.tx = txOf(id), t.ty = tyOf(id);
@@ -249,11 +267,14 @@ const TerrainTile& TerrainQuadtree::tile(TerrainNodeId id) {
         if (!std::isnan(z)) t.error = std::max(t.error, std::abs(z - double(v)));
       }
   }
-  return tiles_.emplace(id, std::move(t)).first->second;
+  return t;
 }
 
 double TerrainQuadtree::screenSpaceError(TerrainNodeId id, const Camera& camera) {
-  const TerrainTile& t = tile(id);
+  return screenSpaceError(tile(id), camera);
+}
+
+double TerrainQuadtree::screenSpaceError(const TerrainTile& t, const Camera& camera) {
   if (t.bounds.empty()) return 0.0;
   const glm::dvec3 c = camera.center;
   const glm::dvec3 d = glm::max(glm::max(t.bounds.lo - c, c - t.bounds.hi), glm::dvec3(0.0));
@@ -317,7 +338,15 @@ TerrainSelection TerrainQuadtree::select(const std::vector<Camera>& cameras, dou
 }
 
 double TerrainQuadtree::skirtDepth(TerrainNodeId id) {
-  const TerrainTile& t = tile(id);
+  std::vector<const TerrainTile*> ancestors;
+  for (TerrainNodeId a = id; levelOf(a) > 0;) {
+    a = parent(a);
+    ancestors.push_back(&tile(a));
+  }
+  return skirtDepth(tile(id), ancestors);
+}
+
+double TerrainQuadtree::skirtDepth(const TerrainTile& t, const std::vector<const TerrainTile*>& ancestors) const {
   const int l = t.level;
   double depth = options_.skirtMarginCells * step(l) * std::max(std::abs(grid_.cellX), std::abs(grid_.cellY));
   depth += t.error;
@@ -331,12 +360,9 @@ double TerrainQuadtree::skirtDepth(TerrainNodeId id) {
   for (int a = 0; a <= t.nx; ++a) add(a, 0), add(a, t.ny);
   for (int b = 1; b < t.ny; ++b) add(0, b), add(t.nx, b);
   double above = 0.0;
-  TerrainNodeId a = id;
-  while (levelOf(a) > 0) {
-    a = parent(a);
-    const TerrainTile& coarse = tile(a);
+  for (const TerrainTile* coarse : ancestors) {
     for (const glm::dvec3& p : border) {
-      const double z = surfaceAt(coarse, p.x, p.y);
+      const double z = surfaceAt(*coarse, p.x, p.y);
       if (!std::isnan(z)) above = std::max(above, p.z - z);
     }
   }
@@ -345,7 +371,10 @@ double TerrainQuadtree::skirtDepth(TerrainNodeId id) {
 
 Mesh TerrainQuadtree::tileMesh(TerrainNodeId id, bool skirts) {
   const double depth = skirts ? skirtDepth(id) : 0.0;
-  const TerrainTile& t = tile(id);
+  return tileMesh(tile(id), skirts, depth);
+}
+
+Mesh TerrainQuadtree::tileMesh(const TerrainTile& t, bool skirts, double depth) const {
   Mesh mesh;
   const int w = t.nx + 1, h = t.ny + 1, l = t.level;
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();

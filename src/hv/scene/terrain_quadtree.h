@@ -133,6 +133,8 @@ class TerrainQuadtree {
 
   const TerrainGrid& grid() const { return grid_; }
   const TerrainSource& source() const { return *source_; }
+  const std::shared_ptr<const TerrainSource>& sharedSource() const { return source_; }
+  const TerrainTileOptions& options() const { return options_; }
   int maxLevel() const { return maxLevel_; }  // L
   int tileCells() const { return options_.tileCells; }
   int step(int level) const { return 1 << (maxLevel_ - level); }
@@ -153,10 +155,19 @@ class TerrainQuadtree {
   // thread-safe: one quadtree per thread, or a lock around it). Throws InputError from the source.
   const TerrainTile& tile(TerrainNodeId id);
   std::size_t loadedTiles() const { return tiles_.size(); }
+  // The same tile read through the source without keeping it: safe to call from several threads
+  // (the source is), for the tiles streamed per view (hv/render/terrain_stream.h).
+  TerrainTile readTile(TerrainNodeId id) const;
+  // The most cells a node's tile has per axis (nx, ny of its TerrainTile), known without reading it.
+  glm::ivec2 tileCellCount(TerrainNodeId id) const;
+  // A node's extent on the ground, world frame: its first and last samples' positions, (x0, y0)
+  // the lower corner, (x1, y1) the upper one. Known without reading it.
+  glm::dvec4 footprint(TerrainNodeId id) const;
 
   // Screen-space error of a node seen from a camera: error * focal / distance, focal the larger of
   // fx, fy (pixels), distance from the centre to the node's box (at least 1e-3 of the box's size).
   double screenSpaceError(TerrainNodeId id, const Camera& camera);
+  static double screenSpaceError(const TerrainTile& tile, const Camera& camera);
   // The nodes to draw for one view: every node is refined while its screen-space error exceeds
   // `tolerancePx`. They cover the raster's extent once (no overlap, no hole).
   std::vector<TerrainNodeId> select(const Camera& camera, double tolerancePx);
@@ -178,6 +189,10 @@ class TerrainQuadtree {
   // above any coarser level's surface along the same line (every coarser neighbour's border: the
   // levels are nested, so that surface is its ancestors' along the line).
   double skirtDepth(TerrainNodeId id);
+  // The same from the tile and its ancestors (any order; all of them, up to the root).
+  double skirtDepth(const TerrainTile& tile, const std::vector<const TerrainTile*>& ancestors) const;
+  // tileMesh from the tile and its skirt depth (0: no skirts).
+  Mesh tileMesh(const TerrainTile& tile, bool skirts, double skirtDepth) const;
 
   // A whole level as a Heightfield (uniform cells of step * cell, its samples the level's samples
   // k <= (cols - 1) / step): the base heights of the buildings on a DTM too large to read whole.

@@ -76,6 +76,31 @@ void GlBackend::uploadGeometry(const GeometryBuffers& g) {
   checkGlError("geometry upload");
 }
 
+void GlBackend::uploadTerrainTile(std::uint64_t id, const std::vector<float>& vertices,
+                                  const std::vector<std::uint32_t>& indices) {
+  TerrainTileBuffers t;
+  t.vao = gpu::makeVertexArray();
+  t.vertices = gpu::makeBuffer();
+  t.indices = gpu::makeBuffer();
+  t.indexCount = int(indices.size());
+  glBindVertexArray(t.vao.id());
+  glBindBuffer(GL_ARRAY_BUFFER, t.vertices.id());
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+  const GLsizei stride = GeometryBuffers::kStride * sizeof(float);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, t.indices.id());
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(),
+               GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  checkGlError("terrain tile upload");
+  terrainTiles_[id] = std::move(t);
+}
+
 PointProgramInfo GlBackend::uploadPoints(const std::vector<PointVertex>& vertices, const PointProgramRequest& req) {
   pointVao_ = gpu::makeVertexArray();
   pointBuffer_ = gpu::makeBuffer();

@@ -49,6 +49,10 @@ bool drawDebugState(const render::Renderer& renderer, const Scene& scene, render
   ImGui::Text("%d photographs decoded, %d depth maps rendered (%d this frame)", st.imagesLoaded,
               st.depthMapsRendered, st.depthMapsThisFrame);
   ImGui::Text("tile lists: mean %.1f, max %d images", st.meanTileList, st.maxTileList);
+  if (st.streamingTerrain)
+    ImGui::Text("terrain tiles: %d resident (%.1f of %.0f MiB), %d pending; view %d tiles, waiting for %d; %zu evicted",
+                st.terrainTilesResident, double(st.terrainBytes) / (1 << 20), double(st.terrainBudgetBytes) / (1 << 20),
+                st.terrainTilesPending, st.terrainViewTiles, st.terrainViewMissing, st.terrainEvictions);
   if (ImGui::BeginTable("images", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY,
                         ImVec2(0, 160))) {
     ImGui::TableSetupColumn("photo");
