@@ -190,6 +190,22 @@ TEST_F(OgrCamerasTest, ListAndTextArraysLoadAndBrokenFeaturesAreNamedAndLeftOut)
       << wrongDiag.errors.front();
 }
 
+TEST_F(OgrCamerasTest, NoCrsStaysNoneAndOtherFileKindsAreRefusedByName) {
+  const std::vector<Photo> photos = awkwardPhotos();
+  const std::string gpkg = (dir_ / "local.gpkg").string();
+  writeOgrCameras(photos, "", gpkg, "local");
+  Diagnostics diag;
+  EXPECT_EQ(readOgrCameras(gpkg, "local", diag).crs, "");
+  const std::string csv = (dir_ / "cameras.csv").string();
+  try {
+    writeOgrCameras(photos, "", csv, "cameras");
+    FAIL() << "a .csv was written";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), csv + ": expected a .gpkg (GeoPackage) or .geojson file name");
+  }
+  EXPECT_THROW(readOgrCameras((dir_ / "none.gpkg").string(), "", diag), InputError);
+}
+
 TEST(NumberListTest, PostgresAndJsonFormsAndNothingElse) {
   EXPECT_EQ(parseNumberList("{1,2.5,-3e-2}"), (std::vector<double>{1, 2.5, -0.03}));
   EXPECT_EQ(parseNumberList(" [ 1 , +2 ] "), (std::vector<double>{1, 2}));

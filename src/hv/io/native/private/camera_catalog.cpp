@@ -734,7 +734,11 @@ CatalogCameras readOgrCameras(const std::string& source, const std::string& laye
   }
   const std::string at = source + ": layer " + layer->GetName();
   CatalogCameras out;
-  out.crs = gdal::crsDefinition(layer->GetSpatialRef());
+  // A GeoPackage written without a CRS names GeoPackage's "Undefined geographic SRS" (srs_id 0) or
+  // "Undefined Cartesian SRS" (-1): no CRS, not degrees.
+  const OGRSpatialReference* srs = layer->GetSpatialRef();
+  const char* srsName = srs ? srs->GetName() : nullptr;
+  if (!(srsName && std::string(srsName).rfind("Undefined ", 0) == 0)) out.crs = gdal::crsDefinition(srs);
   CPLErrorReset();
   layer->ResetReading();
   decodeLayer(*layer, at, out.photos, diag);
