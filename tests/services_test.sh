@@ -7,8 +7,9 @@
 # Generates a small demo city, serves it with tools/services.sh (lighttpd + MapServer on
 # 127.0.0.1), and checks that
 #   - the same views render to the same picture from the files and from the services (terrain from
-#     WCS 2.0.1, buildings from WFS 2.0 or OGC API - Features, cameras from the local file):
-#     PSNR >= 45 dB or identical;
+#     WCS 2.0.1, buildings from WFS 2.0 or OGC API - Features, cameras from the local file; and
+#     cameras from WFS 2.0, exported by `histoview cameras export --ogr`): PSNR >= 45 dB or
+#     identical;
 #   - each fault of tests/services/fault_proxy.py (404, 500, 503, slow, reset, truncated,
 #     malformed) gives a partial scene, a message naming the URL, bounded retries, no hang (each
 #     run under `timeout`) and no crash (an exit code, not a signal).
@@ -89,6 +90,10 @@ free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",
 # --- the city and the stack
 run demo demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3
 expect_clean demo 0
+# The cameras as a point layer for the WFS (tools/services.sh serves cameras.gpkg when present).
+printf '{"crs": "EPSG:2154", "cameras": {"path": "cameras.json"}}\n' >"$city/cameras-file.json"
+run cameras-export cameras export "$city/cameras-file.json" --ogr "$city/cameras.gpkg"
+expect_clean cameras-export 0
 port=$(free_port)
 if ! "$ROOT/tools/services.sh" up "$city" "$port" >"$DIR/up.out" 2>&1; then
   fail "services.sh up: $(tail -3 "$DIR/up.out")"
@@ -119,12 +124,14 @@ with urllib.request.urlopen(sys.argv[1], timeout=10) as r:
     sys.exit(0 if r.headers.get("Access-Control-Allow-Origin") == "*" and r.status == 200 else 1)
 PY
 
-# scene NAME TERRAIN BUILDINGS: a scene.json beside the city's files (cameras: the local file).
+# scene NAME TERRAIN BUILDINGS [CAMERAS]: a scene.json beside the city's files (cameras: the local
+# file, else the OGR source CAMERAS).
 scene() {
-  python3 - "$city/$1.json" "$2" "$3" <<'PY'
+  python3 - "$city/$1.json" "$2" "$3" "${4:-}" <<'PY'
 import json, sys
-path, terrain, buildings = sys.argv[1:4]
+path, terrain, buildings, cameras = sys.argv[1:5]
 doc = {"crs": "EPSG:2154", "cameras": {"path": "cameras.json"}}
+if cameras: doc["cameras"] = {"path": cameras, "format": "ogr", "layer": "ms:cameras"}
 if terrain: doc["terrain"] = {"path": terrain}
 if buildings: doc["buildings"] = {"path": buildings, "height": "height"}
 json.dump(doc, open(path, "w"), indent=1)
@@ -135,6 +142,7 @@ PY
 scene files dtm.tif buildings.geojson
 scene wfs "$WCS" "$WFS"
 scene oapif "$WCS" "$OAPIF"
+scene wfs-cameras dtm.tif buildings.geojson "WFS:$URL/mapserv?map=city&TYPENAME=ms:cameras"
 run render-files render "$city/files.json" --views "$city/views.json" --out "$DIR/files" --k 4
 expect_clean render-files 0
 # psnr_ok FILE: every view of an eval report at >= 45 dB or identical (infinite PSNR).
@@ -148,7 +156,7 @@ print("  PSNR per view:", ", ".join(f'{v["view"]} {db(v):.2f} dB' for v in views
 sys.exit(0 if views and not bad else 1)
 PY
 }
-for s in wfs oapif; do
+for s in wfs oapif wfs-cameras; do
   run "eval-$s" eval "$city/$s.json" --views "$city/views.json" --truth "$DIR/files" --k 4 --json "$DIR/eval-$s.json"
   expect_clean "eval-$s" 0
   check "$s: same picture as from files (PSNR >= 45 dB or identical)" psnr_ok "$DIR/eval-$s.json"
@@ -160,6 +168,7 @@ expect_out info-wfs "terrain +[1-9][0-9]* vertices"
 # What OGR asked the WFS: paged GetFeature requests with a bounding-box filter (one per tile).
 state=$(sed -n 's/.*(state: \(.*\))$/\1/p' "$DIR/up.out")
 check "WFS GetFeature is paged (STARTINDEX, COUNT)" grep -q "REQUEST=GetFeature.*STARTINDEX=0&COUNT=" "$state/access.log"
+check "cameras read from the WFS" grep -qiE "REQUEST=GetFeature.*TYPENAMES?=ms(:|%3A)cameras" "$state/access.log"
 check "WFS GetFeature carries a BBOX filter" grep -q "REQUEST=GetFeature.*FILTER=.*BBOX" "$state/access.log"
 
 # Whole files by URL (read through GDAL's HTTP client): the lidar points from /files/, the same

@@ -11,6 +11,8 @@
 #   WCS 1.0 / 2.0 and WMS   the DTM, layer (coverage) "dtm"
 #   WFS 2.0                 the footprints, type name "buildings" (GML or GeoJSON)
 #   OGC API - Features      the footprints, collection "buildings"
+#   WFS 2.0                 the photographs' cameras, type name "cameras", when DIR has
+#                           cameras.gpkg (histoview cameras export --ogr; docs/formats.md)
 #   static files            DIR itself under /files/ (cameras.json, the photographs)
 # Every response carries Access-Control-Allow-Origin: *. Everything runs as the invoking user; the
 # configuration, logs and pidfile live in a private temporary folder (printed by `up`), never in DIR.
@@ -71,6 +73,36 @@ MAPSERV=${HV_MAPSERV:-/usr/lib/cgi-bin/mapserv}
 footprints=
 for f in buildings.gpkg buildings.geojson; do [[ -f $DIR/$f ]] && footprints=$DIR/$f && break; done
 [[ -n $footprints ]] || die "$DIR: neither buildings.gpkg nor buildings.geojson found"
+
+# The cameras as a point layer (docs/formats.md, "Cameras as an OGR point layer"), when written:
+# 3D points ("point25d": MapServer writes the height only when told), 10 decimals.
+cameras_layer=
+if [[ -f $DIR/cameras.gpkg ]]; then
+  cameras_layer=$(cat <<EOF
+  LAYER
+    NAME "cameras"
+    TYPE POINT
+    STATUS ON
+    CONNECTIONTYPE OGR
+    CONNECTION "$DIR/cameras.gpkg"
+    DATA "cameras"
+    PROJECTION "init=epsg:2154" END
+    TEMPLATE "void"
+    METADATA
+      "wfs_title" "cameras"
+      "wfs_srs" "EPSG:2154 EPSG:4326"
+      "wfs_enable_request" "*"
+      "gml_include_items" "all"
+      "gml_types" "auto"
+      "gml_geomtype" "point25d"
+      "wfs_geometry_precision" "10"
+      "oga_enable_request" "*"
+      "ows_enable_request" "*"
+    END
+  END
+EOF
+)
+fi
 
 if lighttpd_pid >/dev/null; then die "already serving $DIR: $(cat "$STATE/url") (tools/services.sh down $DIR)"; fi
 
@@ -200,6 +232,7 @@ MAP
     END
     CLASS STYLE COLOR 180 160 140 OUTLINECOLOR 60 60 60 END END
   END
+$cameras_layer
 END
 EOF
 
@@ -254,6 +287,7 @@ serving $DIR on $URL (state: $STATE)
   WMS:            $URL/mapserv?map=city&SERVICE=WMS&REQUEST=GetCapabilities
   WFS buildings:  WFS:$URL/mapserv?map=city&TYPENAME=ms:buildings
   OGC API:        OAPIF:$URL/mapserv/city/ogcapi/collections/buildings
-  files:          $URL/files/cameras.json
+${cameras_layer:+  WFS cameras:    WFS:$URL/mapserv?map=city&TYPENAME=ms:cameras
+}  files:          $URL/files/cameras.json
 stop with: tools/services.sh down $DIR
 EOF

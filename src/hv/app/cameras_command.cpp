@@ -1,9 +1,10 @@
 #include "hv/app/cameras_command.h"
 
-#include "hv/session/session.h"
-#include "hv/session/outputs.h"
 #include "hv/io/cameras_json.h"
+#include "hv/io/native/camera_catalog.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/session/outputs.h"
+#include "hv/session/session.h"
 
 #include <CLI/CLI.hpp>
 
@@ -57,8 +58,47 @@ int runConvert(const ConvertOptions& o) {
     std::cerr << "error: " << out.string() << ": cannot write\n";
     return kExitNotProduced;
   }
-  std::cout << "wrote " << photos.size() << " camera(s) to " << out.string() << " (frame: "
-            << (scene.crs.empty() ? std::string("the scene's own") : scene.crs + ", metres") << ")\n";
+  std::cout << "wrote " << photos.size() << " camera(s) to " << out.string()
+            << " (frame: " << (scene.crs.empty() ? std::string("the scene's own") : scene.crs + ", metres") << ")\n";
+  return exitStatus(diag);
+}
+
+struct ExportOptions {
+  std::string scene;
+  std::string out;
+  std::string layer = kDefaultCatalogTable;
+};
+
+// A scene's cameras as an OGR point layer (docs/formats.md), for any WFS server to publish.
+int runExport(const ExportOptions& o) {
+  Diagnostics diag;
+  SceneLoadOptions camerasOnly;
+  camerasOnly.camerasOnly = true;
+  const Scene scene = loadScene(o.scene, diag, camerasOnly);  // InputError: printed by setAction, exit code 2
+  for (const std::string& w : diag.warnings) std::cerr << "warning: " << w << "\n";
+  for (const std::string& e : diag.errors) std::cerr << "error: " << e << "\n";
+  if (scene.photos.empty()) {
+    std::cerr << "error: " << o.scene << ": no camera loaded\n";
+    return kExitNoScene;
+  }
+  const fs::path out = fs::absolute(o.out);
+  if (out.has_parent_path()) fs::create_directories(out.parent_path());
+  // Image paths relative to the layer's folder (read back relative to scene.json's, kept beside it).
+  std::vector<Photo> photos = scene.photos;
+  auto relative = [&](std::string& image) {
+    if (!image.empty() && image.find("://") == std::string::npos)
+      image = fs::absolute(image).lexically_normal().lexically_relative(out.parent_path()).string();
+  };
+  for (Photo& p : photos) relative(p.imagePath), relative(p.maskPath);
+  std::size_t written = 0;
+  try {
+    written = writeOgrCameras(photos, scene.crs, out.string(), o.layer);
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitNotProduced;
+  }
+  std::cout << "wrote " << written << " camera(s) to " << out.string() << " layer " << o.layer << " ("
+            << (scene.crs.empty() ? std::string("no CRS") : scene.crs) << ")\n";
   return exitStatus(diag);
 }
 
@@ -73,6 +113,13 @@ void addCamerasCommand(CLI::App& app, int& exitCode) {
   convert->add_option("scene", o->scene, "scene.json")->required()->check(CLI::ExistingFile);
   convert->add_option("-o,--out", o->out, "the cameras.json to write")->required();
   setAction(*convert, exitCode, [o] { return runConvert(*o); });
+  auto* exp = cmd->add_subcommand(
+      "export", "write a scene's cameras as a point layer (GeoPackage or GeoJSON) for a WFS server (docs/formats.md)");
+  auto e = std::make_shared<ExportOptions>();
+  exp->add_option("scene", e->scene, "scene.json")->required()->check(CLI::ExistingFile);
+  exp->add_option("--ogr", e->out, "the .gpkg or .geojson file to write (replaced when it exists)")->required();
+  exp->add_option("--layer", e->layer, "the layer's name")->capture_default_str();
+  setAction(*exp, exitCode, [e] { return runExport(*e); });
 }
 
 }  // namespace hv::app

@@ -22,7 +22,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hv {
@@ -59,6 +61,27 @@ struct CatalogCameras {
 // bad field is skipped with an error naming the connection, table, fid, camera and field; the
 // others load. Throws InputError when the database or the table cannot be read.
 CatalogCameras readCameraCatalog(const std::string& connection, const std::string& table, Diagnostics& diag);
+
+// The same cameras as a point layer of any OGR source (docs/formats.md, "Cameras as an OGR point
+// layer"): a 3D point at the camera centre, the catalog's columns as properties, the way de Castro &
+// Brédif 2022 publish them through WFS. Number arrays may be list fields or text ("{a,b,...}",
+// "[a,b,...]").
+//
+// Writes `photos` as layer `layer` of a new GeoPackage (.gpkg) or GeoJSON (.geojson) file at `path`
+// (replaced when it exists), doubles exact (GeoPackage REAL; GeoJSON and the arrays' text with 17
+// significant digits). Throws InputError naming the file.
+std::size_t writeOgrCameras(const std::vector<Photo>& photos, const std::string& crs, const std::string& path,
+                            const std::string& layer);
+// Reads every feature of `layer` (empty: the source's only layer) of `source`: a file GDAL opens
+// or a connection string ("WFS:http://...", "OAPIF:http://..."). A feature with a bad or missing
+// field is skipped with an error naming the source, layer, feature id, camera and field. Throws
+// InputError when the source or the layer cannot be opened. Image paths are as the layer has them.
+CatalogCameras readOgrCameras(const std::string& source, const std::string& layer, Diagnostics& diag);
+
+// The text forms of number fields: one number (surrounding blanks allowed), and a list "{a,b,...}"
+// (PostgreSQL) or "[a,b,...]" (JSON). nullopt when malformed or not finite.
+std::optional<double> parseNumber(std::string_view text);
+std::optional<std::vector<double>> parseNumberList(std::string_view text);
 
 // Nearest cameras asked of the database (docs/catalog.md, "Nearest cameras"), for views that do not
 // hold every camera: the 2016 paper's query by the PostGIS `<->` operator on the GiST index, made

@@ -25,6 +25,7 @@
 #include "hv/scene/robust_extent.h"
 #include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
+#include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
 #include "hv/util/log.h"
 
@@ -226,7 +227,7 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
       {"mesh", {"path", "crs"}},
       {"points", {"path", "crs", "normals"}},
-      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table"}},
+      {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table", "layer"}},
       {"traffic", {"fcd", "csv", "crs", "offset", "models"}}};
   std::vector<std::string> bad;
   for (const std::string& m : unknownKeys(doc, kTop)) bad.push_back(m);
@@ -732,7 +733,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       const json& c = doc["cameras"];
       if (!c.is_object()) throw InputError(path + ": cameras: expected an object");
       if (c.contains("format") && !c["format"].is_string())
-        throw InputError(path + ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\" or \"micmac\")");
+        throw InputError(
+            path + ": cameras.format: expected a string (\"native\", \"itowns\", \"colmap\", \"micmac\" or \"ogr\")");
       const bool catalog = c.contains("postgis");
       if (catalog) {
         for (const char* key : {"path", "format", "images", "orientations", "calibration"})
@@ -745,6 +747,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       } else if (c.contains("table")) {
         throw InputError(path + ": cameras.table: only with cameras.postgis (the catalog's table)");
       }
+      if (c.contains("layer") && (catalog || c.value("format", "") != "ogr"))
+        throw InputError(path + ": cameras.layer: only with \"format\": \"ogr\" (the point layer's name)");
       const std::string format = catalog ? "postgis" : c.value("format", "native");
       std::string catalogCrs;
       auto file = [&](const char* key) {
@@ -764,6 +768,22 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
         catalogCrs = read.crs;
         log::debug("cameras: " + redactConnection(c["postgis"].get<std::string>()) + " table " + table + ": " +
                    std::to_string(scene.photos.size()) + " cameras");
+      } else if (format == "ogr") {
+        // A point layer in the catalog's layout (docs/formats.md): a GeoPackage, a GeoJSON file, a
+        // WFS or an OGC API - Features collection; the layer's CRS unless cameras.crs overrides it.
+        if (c.contains("layer") && !c["layer"].is_string())
+          throw InputError(path + ": cameras.layer: expected a layer name (string)");
+        const std::string source = sourcePath(doc, "cameras", dir, path);
+        CatalogCameras read = readOgrCameras(source, c.value("layer", std::string()), diag);
+        scene.photos = std::move(read.photos);
+        catalogCrs = read.crs;
+        // Relative image and mask paths are relative to scene.json; absolute paths and URLs stay.
+        auto resolveImage = [&](std::string& image) {
+          if (!image.empty() && image.find("://") == std::string::npos && image.rfind("/vsi", 0) != 0)
+            image = (fs::path(dir) / image).lexically_normal().string();
+        };
+        for (Photo& p : scene.photos) resolveImage(p.imagePath), resolveImage(p.maskPath);
+        log::debug("cameras: " + source + ": " + std::to_string(scene.photos.size()) + " cameras");
       } else if (format == "native") {
         scene.photos = readCameraFile(sourcePath(doc, "cameras", dir, path), CameraFileOptions{}, diag);
       } else if (format == "itowns") {
@@ -778,17 +798,18 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       } else if (format == "micmac") {
         scene.photos = readMicmacCameras(file("orientations"), file("images"), diag);
       } else {
-        throw InputError(path + ": cameras.format: expected \"native\", \"itowns\", \"colmap\" or \"micmac\", got \"" +
-                         format + "\"");
+        throw InputError(
+            path + ": cameras.format: expected \"native\", \"itowns\", \"colmap\", \"micmac\" or \"ogr\", got \"" +
+            format + "\"");
       }
       // Georeferencing: the cameras' CRS (cameras.crs, or the format's own: MicMac's centres are
       // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
       if (c.contains("crs") && !c["crs"].is_string())
         throw InputError(path + ": cameras.crs: expected a CRS string (\"EPSG:4978\", WKT, a PROJ string)");
-      const std::string cameraCrs = c.contains("crs") ? c["crs"].get<std::string>()
-                                    : format == "micmac"  ? std::string("EPSG:4978")
-                                    : format == "postgis" ? catalogCrs
-                                                          : std::string();
+      const std::string cameraCrs = c.contains("crs")                        ? c["crs"].get<std::string>()
+                                    : format == "micmac"                     ? std::string("EPSG:4978")
+                                    : format == "postgis" || format == "ogr" ? catalogCrs
+                                                                             : std::string();
       if (!cameraCrs.empty()) {
         scene.sourceCrs.push_back({"cameras", cameraCrs, true});
         if (scene.crs.empty()) scene.crs = cameraCrs;

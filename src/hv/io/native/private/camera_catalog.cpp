@@ -6,17 +6,25 @@
 #include <ogrsf_frmts.h>
 
 #include "hv/io/native/private/gdal_init.h"
+#include "hv/io/native/remote.h"
 #include "hv/util/dates.h"
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <sstream>
+#include <string_view>
 
 namespace hv {
+
+namespace fs = std::filesystem;
+
 namespace {
 
 struct DatasetCloser {
@@ -81,22 +89,67 @@ void execute(GDALDataset& ds, const std::string& sql, const std::string& what) {
     throw InputError(what + ": " + gdal::lastError("SQL failed") + " (" + sql + ")");
 }
 
-std::vector<double> realList(const OGRFeature& f, int index) {
-  if (index < 0 || !f.IsFieldSetAndNotNull(index)) return {};
-  int n = 0;
-  const double* v = f.GetFieldAsDoubleList(index, &n);
-  return std::vector<double>(v, v + n);
-}
-
+// A field's value as text, empty when missing or NULL.
 std::string stringField(const OGRFeature& f, int index) {
   if (index < 0 || !f.IsFieldSetAndNotNull(index)) return {};
   return f.GetFieldAsString(index);
 }
 
+bool isTextField(const OGRFeature& f, int index) { return f.GetFieldDefnRef(index)->GetType() == OFTString; }
+
+// A number field: a real or integer column, or text holding one number (a WFS schema that did not
+// say the type); anything else is refused, never read as 0.
 double realField(const OGRFeature& f, int index, const char* name) {
   if (index < 0 || !f.IsFieldSetAndNotNull(index))
     throw InputError(std::string(name) + ": missing (expected a number)");
-  return f.GetFieldAsDouble(index);
+  if (isTextField(f, index)) {
+    const std::string text = f.GetFieldAsString(index);
+    const std::optional<double> v = parseNumber(text);
+    if (!v) throw InputError(std::string(name) + ": expected a number, got \"" + text + "\"");
+    return *v;
+  }
+  const double v = f.GetFieldAsDouble(index);
+  if (!std::isfinite(v)) throw InputError(std::string(name) + ": not finite");
+  return v;
+}
+
+int intField(const OGRFeature& f, int index, const char* name) {
+  const double v = realField(f, index, name);
+  if (v != std::floor(v) || v < 1 || v > 1e9)
+    throw InputError(std::string(name) + ": expected a positive whole number of pixels");
+  return int(v);
+}
+
+// A number array: an OGR list field (PostGIS float8[], GeoPackage), or text "{a,b,...}"
+// (PostgreSQL) or "[a,b,...]" (JSON, as GeoJSON and some WFS servers give it). Empty when
+// missing; throws naming the field when it is not a list of numbers.
+std::vector<double> realList(const OGRFeature& f, int index, const char* name) {
+  if (index < 0 || !f.IsFieldSetAndNotNull(index)) return {};
+  const OGRFieldType type = f.GetFieldDefnRef(index)->GetType();
+  if (type == OFTRealList || type == OFTIntegerList || type == OFTInteger64List) {
+    int n = 0;
+    const double* v = f.GetFieldAsDoubleList(index, &n);
+    if (type == OFTRealList) return std::vector<double>(v, v + n);
+    std::vector<double> out;
+    if (type == OFTIntegerList) {
+      const int* w = f.GetFieldAsIntegerList(index, &n);
+      for (int i = 0; i < n; ++i) out.push_back(w[i]);
+    } else {
+      const GIntBig* w = f.GetFieldAsInteger64List(index, &n);
+      for (int i = 0; i < n; ++i) out.push_back(double(w[i]));
+    }
+    return out;
+  }
+  if (type == OFTString) {
+    const std::string text = f.GetFieldAsString(index);
+    std::optional<std::vector<double>> v = parseNumberList(text);
+    if (!v)
+      throw InputError(std::string(name) + ": expected a list of numbers, \"{a,b,...}\" or \"[a,b,...]\", got \"" +
+                       (text.size() > 80 ? text.substr(0, 80) + "..." : text) + "\"");
+    return std::move(*v);
+  }
+  throw InputError(std::string(name) + ": expected a list of numbers, got a field of type " +
+                   OGRFieldDefn::GetFieldTypeName(type));
 }
 
 // Doubles are written as text with 17 significant digits, which PostgreSQL parses back to the
@@ -134,6 +187,88 @@ LensDistortion distortionFrom(const std::string& model, const std::vector<double
   d.scale = {v[2], v[3]};
   d.c3 = v[4], d.c5 = v[5], d.c7 = v[6], d.p1 = v[7], d.p2 = v[8], d.l1 = v[9], d.l2 = v[10], d.r2max = v[11];
   return d;
+}
+
+// The columns of docs/catalog.md's layout in one OGR layer definition (-1: absent). The centre is
+// the columns centre_x/y/z when the layer has them (the catalog's SQL), else the feature's point.
+struct CameraFields {
+  int fid, id, image, mask, width, height, fx, fy, cx, cy, skew, rot, model, dist, date, gain, offset, x, y, z;
+  explicit CameraFields(OGRFeatureDefn* defn) {
+    auto column = [&](const char* name) { return defn->GetFieldIndex(name); };
+    fid = column("fid"), id = column("id"), image = column("image"), mask = column("mask"), width = column("width"),
+    height = column("height"), fx = column("focal_x"), fy = column("focal_y"), cx = column("principal_x"),
+    cy = column("principal_y"), skew = column("skew"), rot = column("cam_from_world"),
+    model = column("distortion_model"), dist = column("distortion"), date = column("date"),
+    gain = column("colour_gain"), offset = column("colour_offset"), x = column("centre_x"), y = column("centre_y"),
+    z = column("centre_z");
+  }
+};
+
+// One feature's camera, every field checked (the per-feature decoder of both the PostGIS catalog
+// and any OGR point layer). Throws InputError naming the field; validateCamera's own checks
+// included.
+Photo decodeCamera(const OGRFeature& f, const CameraFields& i) {
+  Photo p;
+  Camera& c = p.camera;
+  c.id = stringField(f, i.id);
+  if (c.id.empty()) throw InputError("id: missing (expected the camera's name)");
+  c.width = intField(f, i.width, "width");
+  c.height = intField(f, i.height, "height");
+  if (i.x >= 0) {
+    c.center = {realField(f, i.x, "centre (x)"), realField(f, i.y, "centre (y)"), realField(f, i.z, "centre (z)")};
+  } else {
+    const OGRGeometry* g = f.GetGeometryRef();
+    if (!g || g->IsEmpty() || wkbFlatten(g->getGeometryType()) != wkbPoint)
+      throw InputError("centre: expected a point geometry");
+    const OGRPoint* point = g->toPoint();
+    if (!point->Is3D()) throw InputError("centre: expected a 3D point (x, y, z), got a 2D one");
+    c.center = {point->getX(), point->getY(), point->getZ()};
+    if (!std::isfinite(c.center.x) || !std::isfinite(c.center.y) || !std::isfinite(c.center.z))
+      throw InputError("centre: not finite");
+  }
+  c.focal = {realField(f, i.fx, "focal_x"), realField(f, i.fy, "focal_y")};
+  c.principal = {realField(f, i.cx, "principal_x"), realField(f, i.cy, "principal_y")};
+  c.skew = realField(f, i.skew, "skew");
+  const std::vector<double> rot = realList(f, i.rot, "cam_from_world");
+  if (rot.size() != 9)
+    throw InputError("cam_from_world: expected 9 numbers (row-major), got " + std::to_string(rot.size()));
+  c.camFromWorld = mat3FromRowMajor(rot.data());
+  const std::string model = stringField(f, i.model);
+  if (!model.empty()) c.distortion = distortionFrom(model, realList(f, i.dist, "distortion"));
+  p.imagePath = stringField(f, i.image);
+  p.maskPath = stringField(f, i.mask);
+  p.date = stringField(f, i.date);
+  if (!p.date.empty() && !parseDate(p.date))
+    throw InputError("date: expected an ISO 8601 date (YYYY, YYYY-MM, YYYY-MM-DD), got \"" + p.date + "\"");
+  const std::vector<double> gain = realList(f, i.gain, "colour_gain"), offset = realList(f, i.offset, "colour_offset");
+  if (!gain.empty() || !offset.empty()) {
+    if (gain.size() != 3 || offset.size() != 3) throw InputError("colour_gain/colour_offset: expected 3 numbers each");
+    p.colour.gain = {gain[0], gain[1], gain[2]};
+    p.colour.offset = {offset[0], offset[1], offset[2]};
+  }
+  // Checked on a copy: the rotation is kept bit for bit (validateCamera would re-orthonormalise
+  // what the writer already made orthonormal).
+  Camera probe = c;
+  validateCamera(probe);
+  return p;
+}
+
+// Every feature of `layer` decoded into `out`; a feature that cannot be is named (`at`, its fid,
+// its camera, the field) and left out.
+void decodeLayer(OGRLayer& layer, const std::string& at, std::vector<Photo>& out, Diagnostics& diag) {
+  const CameraFields fields(layer.GetLayerDefn());
+  for (std::unique_ptr<OGRFeature> f(layer.GetNextFeature()); f; f.reset(layer.GetNextFeature())) {
+    const std::string fid = fields.fid >= 0 ? stringField(*f, fields.fid) : std::to_string(f->GetFID());
+    const std::string id = stringField(*f, fields.id);
+    try {
+      out.push_back(decodeCamera(*f, fields));
+    } catch (const InputError& e) {
+      std::string what = e.what();
+      const std::string named = "camera '" + id + "': ";  // validateCamera's own prefix
+      if (what.rfind(named, 0) == 0) what = what.substr(named.size());
+      diag.error(at + ": fid " + fid + " (camera '" + id + "'): " + what + " (camera skipped)");
+    }
+  }
 }
 
 }  // namespace
@@ -323,59 +458,7 @@ CatalogCameras readCameraCatalog(const std::string& connection, const std::strin
   if (!rows.layer)
     throw InputError(at + ": cannot read: " + gdal::lastError("no result") +
                      " (expected the columns of docs/catalog.md, as histoview catalog load writes them)");
-  OGRFeatureDefn* defn = rows.layer->GetLayerDefn();
-  auto column = [&](const char* name) { return defn->GetFieldIndex(name); };
-  const int iFid = column("fid"), iId = column("id"), iImage = column("image"), iMask = column("mask"),
-            iWidth = column("width"), iHeight = column("height"), iFx = column("focal_x"), iFy = column("focal_y"),
-            iCx = column("principal_x"), iCy = column("principal_y"), iSkew = column("skew"),
-            iRot = column("cam_from_world"), iModel = column("distortion_model"), iDist = column("distortion"),
-            iDate = column("date"), iGain = column("colour_gain"), iOffset = column("colour_offset"),
-            iX = column("centre_x"), iY = column("centre_y"), iZ = column("centre_z");
-  for (std::unique_ptr<OGRFeature> f(rows.layer->GetNextFeature()); f; f.reset(rows.layer->GetNextFeature())) {
-    const std::string fid = stringField(*f, iFid);
-    const std::string id = stringField(*f, iId);
-    try {
-      Photo p;
-      Camera& c = p.camera;
-      c.id = id;
-      if (iWidth < 0 || !f->IsFieldSetAndNotNull(iWidth) || iHeight < 0 || !f->IsFieldSetAndNotNull(iHeight))
-        throw InputError("width/height: missing");
-      c.width = f->GetFieldAsInteger(iWidth);
-      c.height = f->GetFieldAsInteger(iHeight);
-      c.center = {realField(*f, iX, "centre (x)"), realField(*f, iY, "centre (y)"), realField(*f, iZ, "centre (z)")};
-      c.focal = {realField(*f, iFx, "focal_x"), realField(*f, iFy, "focal_y")};
-      c.principal = {realField(*f, iCx, "principal_x"), realField(*f, iCy, "principal_y")};
-      c.skew = realField(*f, iSkew, "skew");
-      const std::vector<double> rot = realList(*f, iRot);
-      if (rot.size() != 9)
-        throw InputError("cam_from_world: expected 9 numbers (row-major), got " + std::to_string(rot.size()));
-      c.camFromWorld = mat3FromRowMajor(rot.data());
-      const std::string model = stringField(*f, iModel);
-      if (!model.empty()) c.distortion = distortionFrom(model, realList(*f, iDist));
-      p.imagePath = stringField(*f, iImage);
-      p.maskPath = stringField(*f, iMask);
-      p.date = stringField(*f, iDate);
-      if (!p.date.empty() && !parseDate(p.date))
-        throw InputError("date: expected an ISO 8601 date (YYYY, YYYY-MM, YYYY-MM-DD), got \"" + p.date + "\"");
-      const std::vector<double> gain = realList(*f, iGain), offset = realList(*f, iOffset);
-      if (!gain.empty() || !offset.empty()) {
-        if (gain.size() != 3 || offset.size() != 3)
-          throw InputError("colour_gain/colour_offset: expected 3 numbers each");
-        p.colour.gain = {gain[0], gain[1], gain[2]};
-        p.colour.offset = {offset[0], offset[1], offset[2]};
-      }
-      // Checked on a copy: the rotation is kept bit for bit (validateCamera would re-orthonormalise
-      // what the reader that wrote it already made orthonormal).
-      Camera probe = c;
-      validateCamera(probe);
-      out.photos.push_back(std::move(p));
-    } catch (const InputError& e) {
-      std::string what = e.what();
-      const std::string named = "camera '" + id + "': ";  // validateCamera's own prefix
-      if (what.rfind(named, 0) == 0) what = what.substr(named.size());
-      diag.error(at + ": fid " + fid + " (camera '" + id + "'): " + what + " (camera skipped)");
-    }
-  }
+  decodeLayer(*rows.layer, at, out.photos, diag);
   if (CPLGetLastErrorType() >= CE_Failure)
     throw InputError(at + ": reading stopped: " + gdal::lastError("no reason given"));
   return out;
@@ -485,6 +568,184 @@ std::vector<std::vector<CameraCatalog::Neighbour>> CameraCatalog::nearestCameras
       out[std::size_t(i)].push_back({f->GetFieldAsInteger64(1), f->GetFieldAsString(2), f->GetFieldAsDouble(3)});
   }
   for (std::vector<Neighbour>& n : out) keepNearest(n, k);
+  return out;
+}
+
+std::optional<double> parseNumber(std::string_view text) {
+  auto space = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r'; };
+  while (!text.empty() && space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && space(text.back())) text.remove_suffix(1);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (text.empty()) return std::nullopt;
+  double v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<std::vector<double>> parseNumberList(std::string_view text) {
+  auto space = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r'; };
+  while (!text.empty() && space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && space(text.back())) text.remove_suffix(1);
+  if (text.size() < 2) return std::nullopt;
+  const char open = text.front(), close = text.back();
+  if (!((open == '{' && close == '}') || (open == '[' && close == ']'))) return std::nullopt;
+  text = text.substr(1, text.size() - 2);
+  std::vector<double> out;
+  const bool blank = std::all_of(text.begin(), text.end(), space);
+  if (blank) return out;
+  while (true) {
+    const std::size_t comma = text.find(',');
+    const std::optional<double> v = parseNumber(text.substr(0, comma));
+    if (!v) return std::nullopt;
+    out.push_back(*v);
+    if (comma == std::string_view::npos) break;
+    text.remove_prefix(comma + 1);
+  }
+  return out;
+}
+
+namespace {
+
+std::string jsonNumbers(const std::vector<double>& v) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? "," : "") + exactText(v[i]);
+  return out + "]";
+}
+
+// The OGR driver for a file name: GeoPackage or GeoJSON.
+const char* driverFor(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  if (ext == ".gpkg") return "GPKG";
+  if (ext == ".geojson" || ext == ".json") return "GeoJSON";
+  return nullptr;
+}
+
+}  // namespace
+
+std::size_t writeOgrCameras(const std::vector<Photo>& photos, const std::string& crs, const std::string& path,
+                            const std::string& layerName) {
+  gdal::ensureRegistered();
+  gdal::QuietErrors quiet;
+  const std::string at = path + ": layer " + layerName;
+  const char* driverName = driverFor(path);
+  if (!driverName) throw InputError(path + ": expected a .gpkg (GeoPackage) or .geojson file name");
+  if (layerName.empty()) throw InputError(path + ": the layer needs a name");
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driverName);
+  if (!driver) throw InputError(path + ": GDAL has no " + driverName + " driver");
+  std::error_code ec;
+  fs::remove(path, ec);  // replaced, as the catalog's table is
+  DatasetPtr ds(driver->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+  if (!ds) throw InputError(path + ": cannot create: " + gdal::lastError("no reason given"));
+  OGRSpatialReference srs;
+  if (!crs.empty()) {
+    srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    if (srs.SetFromUserInput(crs.c_str()) != OGRERR_NONE)
+      throw InputError(at + ": crs '" + crs + "': GDAL cannot read it as a CRS");
+  }
+  const bool geojson = std::string(driverName) == "GeoJSON";
+  // GeoJSON: every double with 17 significant digits (exact), the CRS named (not RFC 7946's WGS 84).
+  const char* const jsonOptions[] = {"RFC7946=NO", "SIGNIFICANT_FIGURES=17", nullptr};
+  const char* const gpkgOptions[] = {"GEOMETRY_NAME=centre", "FID=fid", "SPATIAL_INDEX=YES",
+                                     "DESCRIPTION=histoview cameras (docs/catalog.md)", nullptr};
+  OGRLayer* layer = ds->CreateLayer(layerName.c_str(), crs.empty() ? nullptr : &srs, wkbPoint25D,
+                                    const_cast<char**>(geojson ? jsonOptions : gpkgOptions));
+  if (!layer) throw InputError(at + ": cannot create the layer: " + gdal::lastError("no reason given"));
+  struct Field {
+    const char* name;
+    OGRFieldType type;
+  };
+  // The catalog's columns; number arrays as JSON text "[a,b,...]" (17 digits), which every driver
+  // and WFS server passes on as it is.
+  const Field fields[] = {
+      {"id", OFTString},         {"image", OFTString}, {"mask", OFTString},           {"width", OFTInteger},
+      {"height", OFTInteger},    {"focal_x", OFTReal}, {"focal_y", OFTReal},          {"principal_x", OFTReal},
+      {"principal_y", OFTReal},  {"skew", OFTReal},    {"cam_from_world", OFTString}, {"distortion_model", OFTString},
+      {"distortion", OFTString}, {"date", OFTString},  {"colour_gain", OFTString},    {"colour_offset", OFTString}};
+  for (const Field& f : fields) {
+    OGRFieldDefn defn(f.name, f.type);
+    if (layer->CreateField(&defn) != OGRERR_NONE)
+      throw InputError(at + ": cannot create field " + f.name + ": " + gdal::lastError("no reason given"));
+  }
+  if (!geojson && ds->StartTransaction(FALSE) != OGRERR_NONE)
+    throw InputError(at + ": cannot start a transaction: " + gdal::lastError("no reason given"));
+  std::int64_t fid = 0;
+  for (const Photo& p : photos) {
+    const Camera& c = p.camera;
+    OGRFeature feature(layer->GetLayerDefn());
+    feature.SetFID(++fid);
+    feature.SetField("id", c.id.c_str());
+    if (!p.imagePath.empty()) feature.SetField("image", p.imagePath.c_str());
+    if (!p.maskPath.empty()) feature.SetField("mask", p.maskPath.c_str());
+    feature.SetField("width", c.width);
+    feature.SetField("height", c.height);
+    feature.SetField("focal_x", c.focal.x);
+    feature.SetField("focal_y", c.focal.y);
+    feature.SetField("principal_x", c.principal.x);
+    feature.SetField("principal_y", c.principal.y);
+    feature.SetField("skew", c.skew);
+    std::vector<double> rowMajor(9);
+    mat3ToRowMajor(c.camFromWorld, rowMajor.data());
+    feature.SetField("cam_from_world", jsonNumbers(rowMajor).c_str());
+    if (c.distortion) {
+      feature.SetField("distortion_model",
+                       c.distortion->model == LensDistortion::Model::Fisheye ? "fisheye" : "polynomial");
+      feature.SetField("distortion", jsonNumbers(distortionNumbers(*c.distortion)).c_str());
+    }
+    if (!p.date.empty()) feature.SetField("date", p.date.c_str());
+    feature.SetField("colour_gain", jsonNumbers({p.colour.gain.x, p.colour.gain.y, p.colour.gain.z}).c_str());
+    feature.SetField("colour_offset", jsonNumbers({p.colour.offset.x, p.colour.offset.y, p.colour.offset.z}).c_str());
+    feature.SetGeometryDirectly(new OGRPoint(c.center.x, c.center.y, c.center.z));
+    CPLErrorReset();
+    if (layer->CreateFeature(&feature) != OGRERR_NONE)
+      throw InputError(at + ": camera '" + c.id + "': cannot write: " + gdal::lastError("no reason given"));
+  }
+  if (!geojson && ds->CommitTransaction() != OGRERR_NONE)
+    throw InputError(at + ": cannot commit: " + gdal::lastError("no reason given"));
+  DatasetPtr closed = std::move(ds);
+  closed.reset();  // flushed here: a GeoJSON file is written on close
+  if (CPLGetLastErrorType() >= CE_Failure) throw InputError(at + ": cannot write: " + gdal::lastError("no reason"));
+  return photos.size();
+}
+
+CatalogCameras readOgrCameras(const std::string& source, const std::string& layerName, Diagnostics& diag) {
+  gdal::ensureRegistered();
+  enableRemoteReading();
+  gdal::QuietErrors quiet;
+  gdal::requireOpenable(source, "cameras", false);
+  DatasetPtr ds(GDALDataset::Open(source.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  if (!ds) throw InputError(source + ": cameras: GDAL cannot open it: " + gdal::lastError("no reason given"));
+  OGRLayer* layer = nullptr;
+  if (layerName.empty()) {
+    if (ds->GetLayerCount() != 1)
+      throw InputError(source + ": cameras.layer: expected the layer's name (the source has " +
+                       std::to_string(ds->GetLayerCount()) + " layers)");
+    layer = ds->GetLayer(0);
+  } else {
+    layer = ds->GetLayerByName(layerName.c_str());
+  }
+  if (!layer) {
+    std::string names;
+    for (int l = 0; l < ds->GetLayerCount() && l < 20; ++l)
+      names += (l ? ", " : "") + std::string(ds->GetLayer(l)->GetName());
+    throw InputError(source + ": cameras.layer: no layer \"" + layerName +
+                     "\" (it has: " + (names.empty() ? std::string("none") : names) + ")");
+  }
+  const std::string at = source + ": layer " + layer->GetName();
+  CatalogCameras out;
+  // A GeoPackage written without a CRS names GeoPackage's "Undefined geographic SRS" (srs_id 0) or
+  // "Undefined Cartesian SRS" (-1): no CRS, not degrees.
+  const OGRSpatialReference* srs = layer->GetSpatialRef();
+  const char* srsName = srs ? srs->GetName() : nullptr;
+  if (!(srsName && std::string(srsName).rfind("Undefined ", 0) == 0)) out.crs = gdal::crsDefinition(srs);
+  CPLErrorReset();
+  layer->ResetReading();
+  decodeLayer(*layer, at, out.photos, diag);
+  // A service that fails mid-way ends the reading as if the layer had no more features: said.
+  if (CPLGetLastErrorType() >= CE_Failure)
+    diag.error(at + ": reading stopped: " + gdal::lastError("no reason given") + " (" +
+               std::to_string(out.photos.size()) + " cameras read)");
   return out;
 }
 
