@@ -21,7 +21,7 @@
 
 namespace hv {
 
-class Diagnostics;
+struct Diagnostics;
 
 // Lens distortion, one model for the formats histoview reads (docs/conventions.md, "Lens models").
 // Coordinates are normalised about a centre: x = (p - center) / scale for an ideal pixel p. Then
