@@ -51,6 +51,23 @@ BackendLimits GlBackend::limits() const {
   return l;
 }
 
+namespace {
+
+// The surfaces' vertex layout (GeometryBuffers: position, the days the surface existed, building), set
+// on the bound vertex array for the bound GL_ARRAY_BUFFER: the static geometry and each streamed
+// terrain tile share it.
+void setSurfaceVertexLayout() {
+  const GLsizei stride = GeometryBuffers::kStride * sizeof(float);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
+}
+
+}  // namespace
+
 void GlBackend::uploadGeometry(const GeometryBuffers& g) {
   layerRange_ = g.layers;
   indexCount_ = int(g.indices.size());
@@ -60,13 +77,7 @@ void GlBackend::uploadGeometry(const GeometryBuffers& g) {
   glBindVertexArray(meshVao_.id());
   glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer_.id());
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(g.vertices.size() * sizeof(float)), g.vertices.data(), GL_STATIC_DRAW);
-  const GLsizei stride = GeometryBuffers::kStride * sizeof(float);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
-  glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
+  setSurfaceVertexLayout();
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer_.id());
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(g.indices.size() * sizeof(std::uint32_t)), g.indices.data(),
                GL_STATIC_DRAW);
@@ -86,13 +97,7 @@ void GlBackend::uploadTerrainTile(std::uint64_t id, const std::vector<float>& ve
   glBindVertexArray(t.vao.id());
   glBindBuffer(GL_ARRAY_BUFFER, t.vertices.id());
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
-  const GLsizei stride = GeometryBuffers::kStride * sizeof(float);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
-  glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
+  setSurfaceVertexLayout();
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, t.indices.id());
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(),
                GL_STATIC_DRAW);

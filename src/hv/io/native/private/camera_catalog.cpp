@@ -172,6 +172,36 @@ std::vector<double> distortionNumbers(const LensDistortion& d) {
   return {d.center.x, d.center.y, d.scale.x, d.scale.y, d.c3, d.c5, d.c7, d.p1, d.p2, d.l1, d.l2, d.r2max};
 }
 
+// The columns every camera writer fills alike (docs/catalog.md, "Table layout"); how a number
+// travels is the writer's: `real` for a number column, `list` for an array column.
+using RealWriter = void (*)(OGRFeature&, const char*, double);
+using RealListWriter = void (*)(OGRFeature&, const char*, const std::vector<double>&);
+void fillCameraFeature(OGRFeature& feature, const Photo& p, std::int64_t fid, RealWriter real, RealListWriter list) {
+  const Camera& c = p.camera;
+  feature.SetFID(fid);
+  feature.SetField("id", c.id.c_str());
+  if (!p.imagePath.empty()) feature.SetField("image", p.imagePath.c_str());
+  if (!p.maskPath.empty()) feature.SetField("mask", p.maskPath.c_str());
+  feature.SetField("width", c.width);
+  feature.SetField("height", c.height);
+  real(feature, "focal_x", c.focal.x);
+  real(feature, "focal_y", c.focal.y);
+  real(feature, "principal_x", c.principal.x);
+  real(feature, "principal_y", c.principal.y);
+  real(feature, "skew", c.skew);
+  std::vector<double> rowMajor(9);
+  mat3ToRowMajor(c.camFromWorld, rowMajor.data());
+  list(feature, "cam_from_world", rowMajor);
+  if (c.distortion) {
+    feature.SetField("distortion_model", c.distortion->model == LensDistortion::Model::Fisheye ? "fisheye" : "polynomial");
+    list(feature, "distortion", distortionNumbers(*c.distortion));
+  }
+  if (!p.date.empty()) feature.SetField("date", p.date.c_str());
+  list(feature, "colour_gain", {p.colour.gain.x, p.colour.gain.y, p.colour.gain.z});
+  list(feature, "colour_offset", {p.colour.offset.x, p.colour.offset.y, p.colour.offset.z});
+  feature.SetGeometryDirectly(new OGRPoint(c.center.x, c.center.y, c.center.z));
+}
+
 LensDistortion distortionFrom(const std::string& model, const std::vector<double>& v) {
   LensDistortion d;
   if (model == "polynomial")
@@ -374,39 +404,15 @@ CatalogWriteResult writeCameraCatalog(const std::vector<Photo>& photos, const st
   for (const Photo& p : photos) {
     const Camera& c = p.camera;
     OGRFeature feature(layer->GetLayerDefn());
-    feature.SetFID(++fid);
-    feature.SetField("id", c.id.c_str());
-    if (!p.imagePath.empty()) feature.SetField("image", p.imagePath.c_str());
-    if (!p.maskPath.empty()) feature.SetField("mask", p.maskPath.c_str());
-    feature.SetField("width", c.width);
-    feature.SetField("height", c.height);
-    setReal(feature, "focal_x", c.focal.x);
-    setReal(feature, "focal_y", c.focal.y);
-    setReal(feature, "principal_x", c.principal.x);
-    setReal(feature, "principal_y", c.principal.y);
-    setReal(feature, "skew", c.skew);
-    std::vector<double> rowMajor(9);
-    mat3ToRowMajor(c.camFromWorld, rowMajor.data());
-    setRealList(feature, "cam_from_world", rowMajor);
-    if (c.distortion) {
-      feature.SetField("distortion_model",
-                       c.distortion->model == LensDistortion::Model::Fisheye ? "fisheye" : "polynomial");
-      setRealList(feature, "distortion", distortionNumbers(*c.distortion));
-    }
-    if (!p.date.empty()) {
-      feature.SetField("date", p.date.c_str());
-      // The interval the date names, for SQL (the `dates` range); PostgreSQL has no year 0.
-      if (const auto interval = parseDate(p.date)) {
-        const CivilDate a = civilFromDays(interval->first), b = civilFromDays(interval->last);
-        if (a.year >= 1) {
-          feature.SetField("date_from", int(a.year), int(a.month), int(a.day));
-          feature.SetField("date_to", int(b.year), int(b.month), int(b.day));
-        }
+    fillCameraFeature(feature, p, ++fid, setReal, setRealList);
+    // The interval the date names, for SQL (the `dates` range); PostgreSQL has no year 0.
+    if (const auto interval = p.date.empty() ? std::nullopt : parseDate(p.date)) {
+      const CivilDate a = civilFromDays(interval->first), b = civilFromDays(interval->last);
+      if (a.year >= 1) {
+        feature.SetField("date_from", int(a.year), int(a.month), int(a.day));
+        feature.SetField("date_to", int(b.year), int(b.month), int(b.day));
       }
     }
-    setRealList(feature, "colour_gain", {p.colour.gain.x, p.colour.gain.y, p.colour.gain.z});
-    setRealList(feature, "colour_offset", {p.colour.offset.x, p.colour.offset.y, p.colour.offset.z});
-    feature.SetGeometryDirectly(new OGRPoint(c.center.x, c.center.y, c.center.z));
     CPLErrorReset();
     if (layer->CreateFeature(&feature) != OGRERR_NONE)
       throw InputError(at + ": camera '" + c.id + "': cannot write: " + gdal::lastError("no reason given"));
@@ -674,29 +680,9 @@ std::size_t writeOgrCameras(const std::vector<Photo>& photos, const std::string&
   for (const Photo& p : photos) {
     const Camera& c = p.camera;
     OGRFeature feature(layer->GetLayerDefn());
-    feature.SetFID(++fid);
-    feature.SetField("id", c.id.c_str());
-    if (!p.imagePath.empty()) feature.SetField("image", p.imagePath.c_str());
-    if (!p.maskPath.empty()) feature.SetField("mask", p.maskPath.c_str());
-    feature.SetField("width", c.width);
-    feature.SetField("height", c.height);
-    feature.SetField("focal_x", c.focal.x);
-    feature.SetField("focal_y", c.focal.y);
-    feature.SetField("principal_x", c.principal.x);
-    feature.SetField("principal_y", c.principal.y);
-    feature.SetField("skew", c.skew);
-    std::vector<double> rowMajor(9);
-    mat3ToRowMajor(c.camFromWorld, rowMajor.data());
-    feature.SetField("cam_from_world", jsonNumbers(rowMajor).c_str());
-    if (c.distortion) {
-      feature.SetField("distortion_model",
-                       c.distortion->model == LensDistortion::Model::Fisheye ? "fisheye" : "polynomial");
-      feature.SetField("distortion", jsonNumbers(distortionNumbers(*c.distortion)).c_str());
-    }
-    if (!p.date.empty()) feature.SetField("date", p.date.c_str());
-    feature.SetField("colour_gain", jsonNumbers({p.colour.gain.x, p.colour.gain.y, p.colour.gain.z}).c_str());
-    feature.SetField("colour_offset", jsonNumbers({p.colour.offset.x, p.colour.offset.y, p.colour.offset.z}).c_str());
-    feature.SetGeometryDirectly(new OGRPoint(c.center.x, c.center.y, c.center.z));
+    fillCameraFeature(
+        feature, p, ++fid, [](OGRFeature& f, const char* name, double v) { f.SetField(name, v); },
+        [](OGRFeature& f, const char* name, const std::vector<double>& v) { f.SetField(name, jsonNumbers(v).c_str()); });
     CPLErrorReset();
     if (layer->CreateFeature(&feature) != OGRERR_NONE)
       throw InputError(at + ": camera '" + c.id + "': cannot write: " + gdal::lastError("no reason given"));
