@@ -191,5 +191,34 @@ TEST(ColourCorrection, PhotographWithoutPairsKeepsTheIdentity) {
   EXPECT_TRUE(solveColourCorrections(0, pairs, HarmonizeSettings{}).corrections.empty());
 }
 
+// The prior (harmonize --prior) trades the overlaps against the identity: the default leaves a
+// cast to the overlaps alone, a strong one undoes it only in part, and never past it.
+TEST(ColourCorrection, StrongPriorUndoesACastInPartOnly) {
+  // Photographs 0 and 1 agree; photograph 2 shows every colour at 0.8 of its value (its
+  // correction's gain is 1.25).
+  std::vector<ColourPair> pairs;
+  for (int k = 0; k < 200; ++k) {
+    const double c = 0.1 + 0.8 * double(k) / 199.0;
+    const glm::dvec3 colour(c, 0.9 - 0.5 * c, 0.5);
+    pairs.push_back({0, 1, colour, colour});
+    pairs.push_back({0, 2, colour, 0.8 * colour});
+    pairs.push_back({1, 2, colour, 0.8 * colour});
+  }
+  const HarmonizeResult exact = solveColourCorrections(3, pairs, HarmonizeSettings{});
+  EXPECT_NEAR(exact.corrections[2].gain.r, 1.25, 1e-3);
+  EXPECT_NEAR(exact.corrections[0].gain.r, 1.0, 1e-3);
+  HarmonizeSettings strong;
+  strong.prior = 0.1;
+  const HarmonizeResult held = solveColourCorrections(3, pairs, strong);
+  for (int ch = 0; ch < 2; ++ch) {  // blue is 0.5 everywhere: its gain and offset trade, only the colour counts
+    EXPECT_GT(held.corrections[2].gain[ch], 1.02) << ch;
+    EXPECT_LT(held.corrections[2].gain[ch], 1.24) << ch;
+  }
+  // The corrected colour of photograph 2 lies between its own and the exact one.
+  const double shown = held.corrections[2].gain.b * 0.4 + held.corrections[2].offset.b;
+  EXPECT_GT(shown, 0.4 + 1e-3);
+  EXPECT_LT(shown, 0.5 - 1e-3);
+}
+
 }  // namespace
 }  // namespace hv::ibr
