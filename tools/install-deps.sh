@@ -27,6 +27,7 @@ packages=(
   postgresql-15-postgis-3                               # ... with PostGIS (the cameras' centres, their GiST indexes)
   sumo sumo-tools                                       # the demo's traffic: netconvert, randomTrips.py, sumo --fcd-output
   libtinygltf-dev                                       # glTF vehicle models (scene.json traffic.models): tinygltf, header-only
+  iipimage-server                                       # iipsrv: the IIIF image service of tools/services.sh and tests/iiif_test.sh
 )
 
 missing=()

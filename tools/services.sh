@@ -14,6 +14,9 @@
 #   WFS 2.0                 the photographs' cameras, type name "cameras", when DIR has
 #                           cameras.gpkg (histoview cameras export --ogr; docs/formats.md)
 #   static files            DIR itself under /files/ (cameras.json, the photographs)
+#   IIIF Image API 2        the tiled pyramidal TIFFs of DIR/iiif/ under /iiif?IIIF=NAME.tif/...
+#                           (iipsrv, Debian's iipimage-server, through FastCGI), when DIR has
+#                           an iiif/ folder and iipsrv is installed
 # Every response carries Access-Control-Allow-Origin: *. Everything runs as the invoking user; the
 # configuration, logs and pidfile live in a private temporary folder (printed by `up`), never in DIR.
 set -euo pipefail
@@ -248,6 +251,23 @@ CONFIG
 END
 EOF
 
+# IIIF: iipsrv as a FastCGI program lighttpd starts (one process, on a socket in the state folder).
+IIPSRV=${HV_IIPSRV:-/usr/lib/iipimage-server/iipsrv.fcgi}
+iiif_conf=
+if [[ -d $DIR/iiif && -x $IIPSRV ]]; then
+  iiif_conf=$(cat <<IIIF
+server.modules += ("mod_fastcgi")
+fastcgi.server = ("/iiif" => ((
+  "socket" => "$STATE/iipsrv.sock", "bin-path" => "$IIPSRV", "check-local" => "disable", "max-procs" => 1,
+  "bin-environment" => ("FILESYSTEM_PREFIX" => "$DIR/iiif/", "LOGFILE" => "$STATE/iipsrv.log", "VERBOSITY" => "1",
+                        "MAX_CVT" => "4096", "JPEG_QUALITY" => "90")
+)))
+IIIF
+)
+elif [[ -d $DIR/iiif ]]; then
+  echo "services.sh: $IIPSRV not found: no IIIF service (package iipimage-server)" >&2
+fi
+
 cat >"$STATE/lighttpd.conf" <<EOF
 server.bind = "127.0.0.1"
 server.port = $PORT
@@ -265,6 +285,7 @@ alias.url = ("/mapserv" => "$MAPSERV", "/files/" => "$DIR/")
   setenv.add-environment = ("MAPSERVER_CONFIG_FILE" => "$STATE/mapserver.conf")
 }
 setenv.add-response-header = ("Access-Control-Allow-Origin" => "*")
+$iiif_conf
 EOF
 mkdir -p "$STATE/www"
 echo "$URL" >"$STATE/url"
@@ -288,6 +309,7 @@ serving $DIR on $URL (state: $STATE)
   WFS buildings:  WFS:$URL/mapserv?map=city&TYPENAME=ms:buildings
   OGC API:        OAPIF:$URL/mapserv/city/ogcapi/collections/buildings
 ${cameras_layer:+  WFS cameras:    WFS:$URL/mapserv?map=city&TYPENAME=ms:cameras
+}${iiif_conf:+  IIIF:           $URL/iiif?IIIF=NAME.tif/info.json (NAME.tif in $DIR/iiif/)
 }  files:          $URL/files/cameras.json
 stop with: tools/services.sh down $DIR
 EOF

@@ -5,7 +5,7 @@
 
 A request for /<fault>/<rest> is forwarded to UPSTREAM/<rest> and its answer spoilt as <fault>
 says; a fault named <fault>-data spoils only the data requests (GetFeature, GetCoverage, GetMap,
-OGC API /items) and passes the service descriptions through, so that the service opens and fails
+OGC API /items, IIIF image requests .../default.jpg) and passes the service descriptions through, so that the service opens and fails
 later, part-way. Faults:
 
     ok          passed through
@@ -38,7 +38,7 @@ log_lock = threading.Lock()
 
 def is_data(path):
     p = path.lower()
-    return any(k in p for k in ("getfeature", "getcoverage", "getmap", "/items"))
+    return any(k in p for k in ("getfeature", "getcoverage", "getmap", "/items", "/default."))
 
 
 def broken(body, content_type):

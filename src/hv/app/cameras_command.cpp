@@ -5,6 +5,7 @@
 #include "hv/io/native/scene_loader.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
+#include "hv/util/input_file.h"
 
 #include <CLI/CLI.hpp>
 
@@ -43,8 +44,10 @@ int runConvert(const ConvertOptions& o) {
                  "'): a name that is not valid UTF-8 cannot be written to JSON (left out)");
       continue;
     }
-    if (!p.imagePath.empty()) p.imagePath = fs::absolute(p.imagePath).lexically_normal().string();
-    if (!p.maskPath.empty()) p.maskPath = fs::absolute(p.maskPath).lexically_normal().string();
+    if (!p.imagePath.empty() && !isHttpUrl(p.imagePath))
+      p.imagePath = fs::absolute(p.imagePath).lexically_normal().string();
+    if (!p.maskPath.empty() && !isHttpUrl(p.maskPath))
+      p.maskPath = fs::absolute(p.maskPath).lexically_normal().string();
     photos.push_back(std::move(p));
   }
   if (photos.empty()) {

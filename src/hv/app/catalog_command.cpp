@@ -6,6 +6,7 @@
 #include "hv/io/native/scene_loader.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
+#include "hv/util/input_file.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -61,8 +62,10 @@ int runLoad(const LoadOptions& o) {
   }
   // Absolute image paths: the catalog is read from anywhere.
   for (Photo& p : photos) {
-    if (!p.imagePath.empty()) p.imagePath = fs::absolute(p.imagePath).lexically_normal().string();
-    if (!p.maskPath.empty()) p.maskPath = fs::absolute(p.maskPath).lexically_normal().string();
+    if (!p.imagePath.empty() && !isHttpUrl(p.imagePath))
+      p.imagePath = fs::absolute(p.imagePath).lexically_normal().string();
+    if (!p.maskPath.empty() && !isHttpUrl(p.maskPath))
+      p.maskPath = fs::absolute(p.maskPath).lexically_normal().string();
   }
   const auto t0 = std::chrono::steady_clock::now();
   CatalogWriteResult written;

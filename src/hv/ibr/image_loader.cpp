@@ -60,11 +60,9 @@ std::size_t resizeScratchBytes(int srcW, int srcH, int dstW, int dstH, int chann
     return std::size_t(std::ceil(4.0 * std::max(1.0, double(in) / out))) + 1;
   };
   const std::size_t fx = filterWidth(srcW, dstW), fy = filterWidth(srcH, dstH);
-  const std::size_t tables =
-      24 * (std::size_t(srcW) + dstW + 2 * fx) + 24 * (std::size_t(srcH) + dstH + 2 * fy);
+  const std::size_t tables = 24 * (std::size_t(srcW) + dstW + 2 * fx) + 24 * (std::size_t(srcH) + dstH + 2 * fy);
   const std::size_t c = std::size_t(channels);
-  const std::size_t rows =
-      4 * c * (std::size_t(srcW) + 2 * fx + 2 * std::size_t(dstW) + std::size_t(dstW) * (fy + 1));
+  const std::size_t rows = 4 * c * (std::size_t(srcW) + 2 * fx + 2 * std::size_t(dstW) + std::size_t(dstW) * (fy + 1));
   return tables + rows;
 }
 
@@ -166,8 +164,8 @@ bool ImageLoader::cancel(int photo) {
     } else if (auto rt = running_.find(photo); rt != running_.end()) {
       rt->second = true;
       found = true;
-    } else if (auto r = std::find_if(ready_.begin(), ready_.end(),
-                                     [&](const LoadResult& x) { return x.photo == photo; });
+    } else if (auto r =
+                   std::find_if(ready_.begin(), ready_.end(), [&](const LoadResult& x) { return x.photo == photo; });
                r != ready_.end()) {
       if (r->ok()) bytesInUse_ -= sliceBytes_;
       ready_.erase(r);
@@ -197,6 +195,19 @@ ImageLoader::Probe ImageLoader::probe(const Job& job) const {
   Probe p;
   const std::string who = cameraName(job.camera);
   const auto probeFile = [](const std::string& path) {
+    if (isHttpUrl(path)) {
+      // The remote reader (installed by the native build) names the URL and the HTTP status.
+      auto bytes = std::make_shared<const std::vector<std::uint8_t>>(
+          readInputBytes(path, std::min<std::uint64_t>(kMaxImageBytes, INT_MAX), "", RemoteCache::Yes));
+      FileInfo info;
+      info.fileBytes = bytes->size();
+      checkImageBytes(bytes->data(), bytes->size(), path, true);
+      if (!stbi_info_from_memory(bytes->data(), int(bytes->size()), &info.width, &info.height, &info.channels))
+        throw InputError(decodeFailure(path, *bytes));
+      info.is16 = stbi_is_16_bit_from_memory(bytes->data(), int(bytes->size())) != 0;
+      info.fetched = std::move(bytes);
+      return info;
+    }
     FilePtr f = openFile(path);
     FileInfo info;
     if (std::fseek(f.get(), 0, SEEK_END) != 0) throw InputError(path + ": cannot read file");
@@ -238,16 +249,14 @@ ImageLoader::Probe ImageLoader::probe(const Job& job) const {
   }
   // The slice's content size, as makeSliceImage computes it (rounded up: an upper bound).
   const SliceLayout layout = sliceLayout(job.camera, slice_, 0);
-  const int w =
-      std::clamp(int(std::ceil(layout.uvScale.x * slice_.width * job.camera.width - 1e-6)), 1, slice_.width);
-  const int h = std::clamp(int(std::ceil(layout.uvScale.y * slice_.height * job.camera.height - 1e-6)), 1,
-                           slice_.height);
+  const int w = std::clamp(int(std::ceil(layout.uvScale.x * slice_.width * job.camera.width - 1e-6)), 1, slice_.width);
+  const int h =
+      std::clamp(int(std::ceil(layout.uvScale.y * slice_.height * job.camera.height - 1e-6)), 1, slice_.height);
   const FileInfo& im = p.image;
   // Everything is summed although the phases (decode image, decode mask, build the slice) overlap
   // only partly: simpler to check, and it errs on the safe side.
   p.bytes = sliceBytes_ + decodeBytes(im.fileBytes, im.width, im.height, im.channels, im.is16) +
-            std::size_t(w) * h * std::size_t(im.channels) +
-            resizeScratchBytes(im.width, im.height, w, h, im.channels);
+            std::size_t(w) * h * std::size_t(im.channels) + resizeScratchBytes(im.width, im.height, w, h, im.channels);
   if (p.mask) {
     const FileInfo& m = *p.mask;
     p.bytes += decodeBytes(m.fileBytes, m.width, m.height, 1, m.is16) + std::size_t(w) * h +
@@ -263,6 +272,7 @@ LoadResult ImageLoader::decode(int photo, const Job& job, const Probe& probe) co
   // Reads exactly the probed file and checks its header again: a file replaced since the probe
   // could need more memory than was reserved, so it is refused rather than decoded.
   const auto read = [](const std::string& path, const FileInfo& info, int wantChannels) {
+    if (info.fetched) return decodeImage(info.fetched->data(), info.fetched->size(), path, wantChannels);
     FilePtr f = openFile(path);
     std::vector<std::uint8_t> bytes(std::size_t(info.fileBytes));
     const bool complete =
@@ -331,8 +341,7 @@ ImageLoader::Step ImageLoader::step(std::unique_lock<std::mutex>& lock) {
   if (error.empty() && pr.bytes > cap_)
     error = inputMessage(cameraName(headJob.camera), "image",
                          std::to_string(pr.image.width) + "x" + std::to_string(pr.image.height) + " needs " +
-                             std::to_string(pr.bytes) +
-                             " bytes to load, more than the image loader's memory cap (" +
+                             std::to_string(pr.bytes) + " bytes to load, more than the image loader's memory cap (" +
                              std::to_string(cap_) + " bytes)");
   const std::size_t reserve = error.empty() ? pr.bytes : 0;
   if (bytesInUse_ + reserve > cap_) return Step::Blocked;

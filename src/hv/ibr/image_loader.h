@@ -24,6 +24,12 @@
 // another thread may also call them. The destructor discards pending work and joins the workers,
 // waiting at most for the decodes in progress.
 //
+// A photograph or mask named by an http(s):// URL (docs/services.md) is fetched whole when its job
+// is probed (through the remote reader hv/util/input_file.h installs: the response cache, GDAL's
+// HTTP client) and decoded from memory; the reservation counts it as the file. Fetched responses
+// of probed jobs still waiting for memory are outside the cap: at most a window of (threads + 1)
+// jobs is probed ahead.
+//
 // No low-resolution preview: stb_image has no reduced-scale decode, so a preview would cost the
 // full decode it is meant to avoid; it needs stored thumbnails or libjpeg's DCT scaling.
 #pragma once
@@ -37,6 +43,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -105,6 +112,9 @@ class ImageLoader {
 
  private:
   struct FileInfo {
+    // An http(s):// image or mask (docs/services.md): fetched whole by the probe (HTTP has no cheap
+    // header read) and kept for the decode; null for a local file, read again by the decode.
+    std::shared_ptr<const std::vector<std::uint8_t>> fetched;
     std::uintmax_t fileBytes = 0;
     int width = 0, height = 0, channels = 0;
     bool is16 = false;

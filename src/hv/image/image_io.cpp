@@ -37,7 +37,7 @@ void checkJpegSegments(const std::uint8_t* b, size_t n, const std::string& name,
       ++pos;
       continue;
     }
-    if (marker == 0xd9 || marker == 0xda) return;  // end of image, start of scan: entropy data follows
+    if (marker == 0xd9 || marker == 0xda) return;                // end of image, start of scan: entropy data follows
     if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {  // markers without a length
       pos += 2;
       continue;
@@ -108,19 +108,24 @@ std::string jpegReason(const std::uint8_t* b, size_t n) {
     const size_t len = size_t(b[pos + 2]) << 8 | b[pos + 3];
     const bool frame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
     if (frame) {
-      if (marker >= 0xc9) return "an arithmetic-coded JPEG (SOF" + std::to_string(marker - 0xc0) +
-                                 "): the decoder reads Huffman-coded JPEGs only; re-encode it";
-      if (marker == 0xc3 || marker == 0xc7) return "a lossless JPEG (SOF" + std::to_string(marker - 0xc0) +
-                                                   "): the decoder reads baseline and progressive JPEGs only";
-      if (marker >= 0xc5) return "a hierarchical JPEG (SOF" + std::to_string(marker - 0xc0) +
-                                 "): the decoder reads baseline and progressive JPEGs only";
+      if (marker >= 0xc9)
+        return "an arithmetic-coded JPEG (SOF" + std::to_string(marker - 0xc0) +
+               "): the decoder reads Huffman-coded JPEGs only; re-encode it";
+      if (marker == 0xc3 || marker == 0xc7)
+        return "a lossless JPEG (SOF" + std::to_string(marker - 0xc0) +
+               "): the decoder reads baseline and progressive JPEGs only";
+      if (marker >= 0xc5)
+        return "a hierarchical JPEG (SOF" + std::to_string(marker - 0xc0) +
+               "): the decoder reads baseline and progressive JPEGs only";
       if (pos + 9 > n) return "a JPEG cut in its frame header";
       const int precision = b[pos + 4];
-      const std::uint32_t h = std::uint32_t(b[pos + 5]) << 8 | b[pos + 6], w = std::uint32_t(b[pos + 7]) << 8 | b[pos + 8];
+      const std::uint32_t h = std::uint32_t(b[pos + 5]) << 8 | b[pos + 6],
+                          w = std::uint32_t(b[pos + 7]) << 8 | b[pos + 8];
       if (precision != 8)
         return "a " + std::to_string(precision) + "-bit JPEG: the decoder reads 8-bit samples only; re-encode it";
       if (w == 0 || h == 0)
-        return "a JPEG of " + sizeWords(w, h) + " pixels (a height of 0 is given later by a DNL marker, which "
+        return "a JPEG of " + sizeWords(w, h) +
+               " pixels (a height of 0 is given later by a DNL marker, which "
                "the decoder does not read)";
       return "";
     }
@@ -175,6 +180,8 @@ Image8 decodeImage(const std::uint8_t* bytes, size_t size, const std::string& na
 
 namespace {
 std::vector<std::uint8_t> readFile(const std::string& path) {
+  // A photograph by URL (docs/services.md), from the response cache when it holds it.
+  if (isHttpUrl(path)) return readInputBytes(path, kMaxImageBytes, "", RemoteCache::Yes);
   // A FIFO or device named as a photograph would block the open or never end.
   if (const std::string reason = notRegularFileReason(path); !reason.empty()) throw InputError(path + ": " + reason);
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
@@ -231,8 +238,7 @@ Image8 resizeImage(const Image8& src, int width, int height) {
   // stb_image_resize's default filters (Mitchell when shrinking, so large reductions do not alias;
   // Catmull-Rom when enlarging). Pixel centres stay aligned: the image maps onto [0,W]x[0,H].
   Image8 out(width, height, src.channels);
-  if (!stbir_resize_uint8(src.data.data(), src.width, src.height, 0, out.data.data(), width, height, 0,
-                          src.channels))
+  if (!stbir_resize_uint8(src.data.data(), src.width, src.height, 0, out.data.data(), width, height, 0, src.channels))
     throw std::runtime_error("image resize failed");
   return out;
 }

@@ -39,7 +39,8 @@ double number(const json& j, const char* field) {
 }
 
 std::vector<double> numbers(const json& j, const char* field, size_t n) {
-  if (!j.contains(field)) throw InputError(std::string(field) + ": missing (expected " + std::to_string(n) + " numbers)");
+  if (!j.contains(field))
+    throw InputError(std::string(field) + ": missing (expected " + std::to_string(n) + " numbers)");
   const json& v = j.at(field);
   if (!v.is_array() || v.size() != n)
     throw InputError(std::string(field) + ": expected an array of " + std::to_string(n) + " numbers, got " +
@@ -62,14 +63,15 @@ int positiveInt(const json& j, const char* field) {
 }
 
 // Keys a camera may have (docs/formats.md); `t` is a camera path's time (PATH.json).
-const std::vector<std::string> kCameraKeys = {"id",        "image", "mask",   "width",      "height", "center",
-                                              "rotation",  "focal", "principal", "skew",   "distortion", "date",
-                                              "t"};
+const std::vector<std::string> kCameraKeys = {"id",         "image",    "mask",  "width",     "height",
+                                              "center",     "rotation", "focal", "principal", "skew",
+                                              "distortion", "date",     "t"};
 
 std::string resolve(const std::string& baseDir, const std::string& p, const std::string& field) {
   // The system calls would stop at the NUL and open another file than the one named.
   if (p.find('\0') != std::string::npos) throw InputError(field + ": the path contains a NUL byte");
-  if (p.empty() || fs::path(p).is_absolute()) return p;
+  // A photograph by URL (docs/services.md) stays a URL.
+  if (p.empty() || fs::path(p).is_absolute() || isHttpUrl(p)) return p;
   return (fs::path(baseDir) / p).lexically_normal().string();
 }
 
@@ -86,9 +88,7 @@ LensDistortion parseDistortion(const json& d, const Camera& c, std::vector<std::
       {"fisheye", {"type", "center", "focal", "c3", "c5", "c7", "l1", "l2", "r2max"}}};
   if (const auto known = kKeys.find(type); known != kKeys.end())
     for (const std::string& m : unknownKeys(d, known->second)) notes.push_back("distortion: " + m);
-  auto optional = [&](const char* field, double fallback) {
-    return d.contains(field) ? number(d, field) : fallback;
-  };
+  auto optional = [&](const char* field, double fallback) { return d.contains(field) ? number(d, field) : fallback; };
   LensDistortion lens;
   try {
     if (type == "radial") {
@@ -131,27 +131,30 @@ LensDistortion parseDistortion(const json& d, const Camera& c, std::vector<std::
 json distortionJson(const LensDistortion& d, const Camera& c) {
   using Model = LensDistortion::Model;
   if (d.model == Model::Fisheye) {
-    return {{"type", "fisheye"}, {"center", {d.center.x, d.center.y}}, {"focal", d.scale.x}, {"c3", d.c3},
-            {"c5", d.c5}, {"c7", d.c7}, {"l1", d.l1}, {"l2", d.l2}, {"r2max", d.r2max}};
+    return {{"type", "fisheye"},  {"center", {d.center.x, d.center.y}},
+            {"focal", d.scale.x}, {"c3", d.c3},
+            {"c5", d.c5},         {"c7", d.c7},
+            {"l1", d.l1},         {"l2", d.l2},
+            {"r2max", d.r2max}};
   }
   if (d.p1 == 0.0 && d.p2 == 0.0 && d.scale.x == d.scale.y) {
     // A pixel polynomial: normalised by `scale`, so c_k in pixels is c_k / scale^(k-1).
     const double s2 = d.scale.x * d.scale.x;
-    return {{"type", "radial"}, {"center", {d.center.x, d.center.y}}, {"c3", d.c3 / s2},
-            {"c5", d.c5 / (s2 * s2)}, {"c7", d.c7 / (s2 * s2 * s2)}, {"r2max", std::min(d.r2max * s2, 1e30)}};
+    return {{"type", "radial"},       {"center", {d.center.x, d.center.y}}, {"c3", d.c3 / s2},
+            {"c5", d.c5 / (s2 * s2)}, {"c7", d.c7 / (s2 * s2 * s2)},        {"r2max", std::min(d.r2max * s2, 1e30)}};
   }
   if (d.center != c.principal || d.scale != c.focal)
     throw std::invalid_argument("camera '" + c.id +
                                 "': tangential distortion about another centre than the principal point has no "
                                 "cameras.json form");
-  return {{"type", "opencv"}, {"k1", d.c3}, {"k2", d.c5}, {"k3", d.c7}, {"p1", d.p1}, {"p2", d.p2},
-          {"r2max", d.r2max}};
+  return {{"type", "opencv"}, {"k1", d.c3}, {"k2", d.c5}, {"k3", d.c7}, {"p1", d.p1}, {"p2", d.p2}, {"r2max", d.r2max}};
 }
 
 // `path` relative to `baseDir` through the file system (links resolved), else lexically: a path
 // in a loop of links or with a name too long would make std::filesystem::relative throw and
 // the whole file unwritable for one photograph.
 std::string relativeTo(const std::string& path, const std::string& baseDir) {
+  if (isHttpUrl(path)) return path;
   std::error_code ec;
   const fs::path r = fs::relative(path, baseDir, ec);
   if (!ec && !r.empty()) return r.string();
@@ -181,19 +184,24 @@ Photo parseOne(const json& j, const std::string& baseDir, const CameraFileOption
     auto pp = numbers(j, "principal", 2);
     c.principal = {pp[0], pp[1]};
     c.skew = j.contains("skew") ? number(j, "skew") : 0.0;
-    if (j.contains("distortion") && !j["distortion"].is_null()) c.distortion = parseDistortion(j["distortion"], c, notes);
+    if (j.contains("distortion") && !j["distortion"].is_null())
+      c.distortion = parseDistortion(j["distortion"], c, notes);
     validateCamera(c);
     if (j.contains("image") && j["image"].is_string())
       photo.imagePath = resolve(baseDir, j["image"].get<std::string>(), "image");
-    else if (j.contains("image") && !j["image"].is_null()) throw InputError("image: expected a path string");
-    if (opt.requireImages && photo.imagePath.empty()) throw InputError("image: missing (expected a path to a JPEG or PNG)");
+    else if (j.contains("image") && !j["image"].is_null())
+      throw InputError("image: expected a path string");
+    if (opt.requireImages && photo.imagePath.empty())
+      throw InputError("image: missing (expected a path to a JPEG or PNG)");
     if (j.contains("mask") && j["mask"].is_string())
       photo.maskPath = resolve(baseDir, j["mask"].get<std::string>(), "mask");
-    else if (j.contains("mask") && !j["mask"].is_null()) throw InputError("mask: expected a path string or null");
+    else if (j.contains("mask") && !j["mask"].is_null())
+      throw InputError("mask: expected a path string or null");
     if (opt.checkImageFiles) {
-      if (!photo.imagePath.empty() && !isRegularFile(photo.imagePath))
+      // A URL is fetched when the photograph is loaded, and a failure then leaves only it out.
+      if (!photo.imagePath.empty() && !isHttpUrl(photo.imagePath) && !isRegularFile(photo.imagePath))
         throw InputError("image: " + notRegularFileReason(photo.imagePath) + ": " + photo.imagePath);
-      if (!photo.maskPath.empty() && !isRegularFile(photo.maskPath))
+      if (!photo.maskPath.empty() && !isHttpUrl(photo.maskPath) && !isRegularFile(photo.maskPath))
         throw InputError("mask: " + notRegularFileReason(photo.maskPath) + ": " + photo.maskPath);
     }
     if (j.contains("date") && !j["date"].is_null()) {
@@ -270,10 +278,8 @@ std::string cameraJson(const std::vector<Photo>& photos, const std::string& base
               {"focal", {c.focal.x, c.focal.y}},
               {"principal", {c.principal.x, c.principal.y}},
               {"skew", c.skew}};
-    if (!p.imagePath.empty())
-      j["image"] = baseDir.empty() ? p.imagePath : relativeTo(p.imagePath, baseDir);
-    if (!p.maskPath.empty())
-      j["mask"] = baseDir.empty() ? p.maskPath : relativeTo(p.maskPath, baseDir);
+    if (!p.imagePath.empty()) j["image"] = baseDir.empty() ? p.imagePath : relativeTo(p.imagePath, baseDir);
+    if (!p.maskPath.empty()) j["mask"] = baseDir.empty() ? p.maskPath : relativeTo(p.maskPath, baseDir);
     if (c.distortion) j["distortion"] = distortionJson(*c.distortion, c);
     if (!p.date.empty()) j["date"] = p.date;
     arr.push_back(j);

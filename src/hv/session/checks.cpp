@@ -3,9 +3,10 @@
 #include "hv/io/native/georef.h"
 #include "hv/scene/robust_extent.h"
 #include "hv/util/dates.h"
+#include "hv/util/input_file.h"
 
-#include <CLI/CLI.hpp>
 #include <stb_image.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -68,12 +69,14 @@ std::string viewSizeProblem(const Camera& view, int maxTextureSize) {
   return "";
 }
 
-ImageHeader probeImageFile(const std::string& path) {
+namespace {
+// The first MiB of a local image file (the header and marker segments stb_image parses before the
+// size fields); sets h.fileBytes.
+std::vector<std::uint8_t> readLocalHead(const std::string& path, ImageHeader& h) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) throw InputError(inputMessage(path, "", "not found"));
   if (!fs::is_regular_file(st)) throw InputError(inputMessage(path, "", "not a regular file (expected a JPEG or PNG)"));
-  ImageHeader h;
   h.fileBytes = fs::file_size(path, ec);
   if (ec) throw InputError(inputMessage(path, "", "cannot read the file size: " + ec.message()));
   if (h.fileBytes > std::uintmax_t(std::numeric_limits<int>::max()))
@@ -84,12 +87,28 @@ ImageHeader probeImageFile(const std::string& path) {
   std::vector<std::uint8_t> head(std::size_t(std::min<std::uintmax_t>(h.fileBytes, 1u << 20)));
   if (!in.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size())))
     throw InputError(inputMessage(path, "", "read error"));
+  return head;
+}
+}  // namespace
+
+ImageHeader probeImageFile(const std::string& path) {
+  ImageHeader h;
+  std::vector<std::uint8_t> head;
+  if (isHttpUrl(path)) {
+    // The whole response (from the response cache when it holds it): HTTP has no cheap header read.
+    head = readInputBytes(path, kMaxImageBytes, "", RemoteCache::Yes);
+    h.fileBytes = head.size();
+    head.resize(std::min<std::size_t>(head.size(), 1u << 20));
+  } else {
+    head = readLocalHead(path, h);
+  }
   checkImageBytes(head.data(), head.size(), path, head.size() == h.fileBytes);
   if (!stbi_info_from_memory(head.data(), int(head.size()), &h.width, &h.height, &h.channels) || h.width <= 0 ||
       h.height <= 0) {
     const char* why = stbi_failure_reason();
-    throw InputError(inputMessage(path, "", std::string("cannot read the image size (expected a JPEG or PNG): ") +
-                                                (why ? why : "unknown error")));
+    throw InputError(inputMessage(
+        path, "",
+        std::string("cannot read the image size (expected a JPEG or PNG): ") + (why ? why : "unknown error")));
   }
   const bool is16 = stbi_is_16_bit_from_memory(head.data(), int(head.size())) != 0;
   // ImageLoader's bound for one file (hv/ibr/image_loader.cpp): three copies of the file, four
@@ -103,10 +122,12 @@ ImageHeader probeImageFile(const std::string& path) {
 Image8 decodeImageCapped(const std::string& path, std::size_t capBytes, int wantChannels) {
   const ImageHeader h = probeImageFile(path);
   if (h.decodeBytes > capBytes)
-    throw InputError(inputMessage(path, "", "a " + std::to_string(h.width) + "x" + std::to_string(h.height) +
-                                                " image: decoding it needs about " + megabytes(h.decodeBytes) +
-                                                ", more than the limit of " + megabytes(capBytes)));
-  const std::vector<std::uint8_t> bytes = readFileBytes(path);
+    throw InputError(inputMessage(path, "",
+                                  "a " + std::to_string(h.width) + "x" + std::to_string(h.height) +
+                                      " image: decoding it needs about " + megabytes(h.decodeBytes) +
+                                      ", more than the limit of " + megabytes(capBytes)));
+  const std::vector<std::uint8_t> bytes =
+      isHttpUrl(path) ? readInputBytes(path, kMaxImageBytes, "", RemoteCache::Yes) : readFileBytes(path);
   if (bytes.size() != h.fileBytes) throw InputError(inputMessage(path, "", "the file changed while it was read"));
   return decodeImage(bytes.data(), bytes.size(), path, wantChannels);
 }
@@ -181,12 +202,11 @@ CheckReport checkScene(const Scene& scene, const Diagnostics& loadDiag, const Ch
       if (options.deep) decodeImageCapped(p.imagePath, options.capBytes);
       const double aspectCam = double(p.camera.width) / p.camera.height;
       if (std::abs(double(image.width) / image.height - aspectCam) > 0.01 * aspectCam)
-        return problem("photographs", inputMessage(p.imagePath, who, "the image is " + std::to_string(image.width) +
-                                                                  "x" + std::to_string(image.height) +
-                                                                  ", expected the camera's " +
-                                                                  std::to_string(p.camera.width) + "x" +
-                                                                  std::to_string(p.camera.height) +
-                                                                  " (or the same aspect ratio)"));
+        return problem("photographs",
+                       inputMessage(p.imagePath, who,
+                                    "the image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                        ", expected the camera's " + std::to_string(p.camera.width) + "x" +
+                                        std::to_string(p.camera.height) + " (or the same aspect ratio)"));
     } catch (const std::exception& e) {
       return problem("photographs", who + ": image: " + e.what());
     }
@@ -196,8 +216,7 @@ CheckReport checkScene(const Scene& scene, const Diagnostics& loadDiag, const Ch
       const ImageHeader mask = probeImageFile(p.maskPath);
       if (options.deep) decodeImageCapped(p.maskPath, options.capBytes, 1);
       const std::string sizes = "the mask is " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
-                                ", the photograph " + std::to_string(image.width) + "x" +
-                                std::to_string(image.height);
+                                ", the photograph " + std::to_string(image.width) + "x" + std::to_string(image.height);
       const double aspect = double(image.width) / image.height;
       if (std::abs(double(mask.width) / mask.height - aspect) > 0.01 * aspect)
         problem("masks", inputMessage(p.maskPath, who + ": mask", sizes + " (expected the same aspect ratio)"));

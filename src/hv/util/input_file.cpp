@@ -115,12 +115,13 @@ namespace {
 
 // Reads at most `maxBytes` + 1 bytes: a file that grew since it was examined is still refused.
 template <class Bytes>
-Bytes readCapped(const std::string& path, std::uint64_t maxBytes, const std::string& what) {
+Bytes readCapped(const std::string& path, std::uint64_t maxBytes, const std::string& what,
+                 RemoteCache cache = RemoteCache::No) {
   if (isRemoteSource(path)) {
     const RemoteReader reader = gRemoteReader.load();
     if (!reader)
       throw InputError(inputMessage(path, what, "a URL or connection string, and this build reads local files only"));
-    const std::string text = reader(path, maxBytes, what);
+    const std::string text = reader(path, maxBytes, what, cache);
     return Bytes(text.begin(), text.end());
   }
   const std::uint64_t size = requireRegularFile(path, what, maxBytes);
@@ -150,6 +151,22 @@ Bytes readCapped(const std::string& path, std::uint64_t maxBytes, const std::str
 
 std::string readTextFile(const std::string& path, std::uint64_t maxBytes, const std::string& what) {
   return readCapped<std::string>(path, maxBytes, what);
+}
+
+std::vector<std::uint8_t> readInputBytes(const std::string& path, std::uint64_t maxBytes, const std::string& what,
+                                         RemoteCache cache) {
+  return readCapped<std::vector<std::uint8_t>>(path, maxBytes, what, cache);
+}
+
+bool isHttpUrl(const std::string& path) {
+  const auto startsWith = [&](const char* prefix) {
+    const std::size_t n = std::char_traits<char>::length(prefix);
+    if (path.size() < n) return false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::tolower(static_cast<unsigned char>(path[i])) != prefix[i]) return false;
+    return true;
+  };
+  return startsWith("http://") || startsWith("https://");
 }
 
 std::vector<std::uint8_t> readFileBytes(const std::string& path) {

@@ -16,6 +16,7 @@ namespace hv {
 constexpr std::uint64_t kMaxJsonBytes = std::uint64_t(256) << 20;   // scene.json, cameras, --views, iTowns
 constexpr std::uint64_t kMaxTextBytes = std::uint64_t(256) << 20;   // COLMAP text, MicMac XML
 constexpr std::uint64_t kMaxBinaryBytes = std::uint64_t(16) << 30;  // LAS, PLY point clouds read whole
+constexpr std::uint64_t kMaxImageBytes = std::uint64_t(1) << 30;    // a photograph or mask fetched by URL
 
 // Why `path` cannot be read as a regular file, or "" when it can: not found, a directory, a FIFO,
 // socket or device, a symbolic-link loop, a name too long, a NUL byte in the path. Never throws and
@@ -45,11 +46,25 @@ std::string resolveSourcePath(const std::string& path, const std::string& dir);
 // remote reader below fetches.
 bool isRemoteSource(const std::string& path);
 
+// True when `path` is an http:// or https:// URL (any case): what a photograph or mask may be.
+bool isHttpUrl(const std::string& path);
+
+// Whether a remote response may come from (and go into) histoview's response cache
+// (docs/services.md, "Cache"): photographs, masks and IIIF descriptions may; sources that change
+// (cameras, features) are always asked again.
+enum class RemoteCache { No, Yes };
+
 // Reads a remote source whole (`what` and the cap as for readTextFile), throwing InputError naming
 // the URL. The native io module installs one (hv/io/native/remote.h, through GDAL's HTTP client);
-// without one, readTextFile and readFileBytes refuse a remote source.
-using RemoteReader = std::string (*)(const std::string& path, std::uint64_t maxBytes, const std::string& what);
+// without one, readTextFile, readFileBytes and readInputBytes refuse a remote source.
+using RemoteReader = std::string (*)(const std::string& path, std::uint64_t maxBytes, const std::string& what,
+                                     RemoteCache cache);
 void setRemoteReader(RemoteReader reader);
+
+// The whole of a binary input, a local file or a remote source (through the remote reader, with
+// `cache`), refused (InputError naming it, what it is for and the size) over `maxBytes`.
+std::vector<std::uint8_t> readInputBytes(const std::string& path, std::uint64_t maxBytes, const std::string& what,
+                                         RemoteCache cache = RemoteCache::No);
 
 // The whole of a text input, refused (InputError naming the file, what it is for and the size)
 // when it is not a regular file or is larger than `maxBytes`.

@@ -65,14 +65,31 @@ TEST_F(SourcePaths, RemoteSourceWithoutReaderNamesTheUrl) {
   }
 }
 
-std::string fakeReader(const std::string& path, std::uint64_t, const std::string&) { return "fetched " + path; }
+RemoteCache gLastCache = RemoteCache::No;
+std::string fakeReader(const std::string& path, std::uint64_t, const std::string&, RemoteCache cache) {
+  gLastCache = cache;
+  return "fetched " + path;
+}
 
 TEST_F(SourcePaths, RemoteSourceGoesThroughTheReader) {
   setRemoteReader(&fakeReader);
   EXPECT_EQ(readTextFile("https://h/x.json", 1024, "x"), "fetched https://h/x.json");
   const std::vector<std::uint8_t> bytes = readFileBytes("/vsicurl/http://h/p.las");
   EXPECT_EQ(std::string(bytes.begin(), bytes.end()), "fetched /vsicurl/http://h/p.las");
+  EXPECT_EQ(gLastCache, RemoteCache::No);
+  const std::vector<std::uint8_t> image = readInputBytes("https://h/a.jpg", 1024, "image", RemoteCache::Yes);
+  EXPECT_EQ(std::string(image.begin(), image.end()), "fetched https://h/a.jpg");
+  EXPECT_EQ(gLastCache, RemoteCache::Yes);
   setRemoteReader(nullptr);
+}
+
+TEST_F(SourcePaths, HttpUrls) {
+  EXPECT_TRUE(isHttpUrl("http://h/a.jpg"));
+  EXPECT_TRUE(isHttpUrl("HTTPS://h/a.jpg"));
+  EXPECT_FALSE(isHttpUrl("/vsicurl/http://h/a.jpg"));
+  EXPECT_FALSE(isHttpUrl("ftp://h/a.jpg"));
+  EXPECT_FALSE(isHttpUrl("http:/h"));
+  EXPECT_FALSE(isHttpUrl("img/http://x.jpg"));
 }
 
 }  // namespace

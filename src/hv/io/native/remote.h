@@ -4,6 +4,8 @@
 // string ("WCS:http://...", "WFS:http://...") are opened by GDAL's own drivers instead.
 #pragma once
 
+#include "hv/util/input_file.h"
+
 #include <cstdint>
 #include <string>
 
@@ -35,9 +37,30 @@ void enableRemoteReading();
 // beside the user's data.
 std::string cacheFolder();
 
+// The response cache (docs/services.md, "Cache"): whole http(s):// responses on disk in
+// cacheFolder()/responses/, one file per URL, kept under a size cap by removing the least
+// recently used (file modification time, touched at each hit). Photographs, masks and IIIF
+// descriptions only (RemoteCache::Yes); no revalidation: remove the folder to ask again.
+struct ResponseCacheSettings {
+  std::string folder;          // "" : no cache
+  std::uint64_t capBytes = 0;  // total size of the cached responses
+};
+inline constexpr std::uint64_t kDefaultResponseCacheMiB = 1024;
+// From the environment: HV_NO_CACHE (set and not "0": no cache), HV_CACHE_MAX_MB (the cap in
+// MiB, default kDefaultResponseCacheMiB) and cacheFolder().
+ResponseCacheSettings responseCacheSettings();
+// The file that holds `url`'s response in `folder` (a hash of the URL; the file's first line is
+// the URL itself, so that two URLs of one hash are told apart).
+std::string responseCacheFile(const std::string& folder, const std::string& url);
+// Removes the least recently used responses of `folder` until they take at most `capBytes`.
+// Returns the bytes left.
+std::uint64_t trimResponseCache(const std::string& folder, std::uint64_t capBytes);
+
 // The whole of a remote source, at most `maxBytes`: an http(s):// URL through GDAL's HTTP client
 // (its time-out and retries), a /vsi path through GDAL's virtual file system. Throws InputError
-// naming the URL, `what` and the HTTP status or transport error.
-std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std::string& what);
+// naming the URL, `what` and the HTTP status or transport error. With RemoteCache::Yes an
+// http(s):// response comes from the response cache when it holds it, and goes into it otherwise.
+std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std::string& what,
+                       RemoteCache cache = RemoteCache::No);
 
 }  // namespace hv

@@ -3,6 +3,7 @@
 #include "hv/io/colour_corrections_json.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/iiif.h"
 #include "hv/io/json_input.h"
 #include "hv/io/native/camera_catalog.h"
 #include "hv/io/native/cityjson.h"
@@ -32,6 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -39,12 +41,58 @@
 #include <iomanip>
 #include <numbers>
 #include <sstream>
+#include <thread>
 
 namespace hv {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+// Photographs from IIIF image services (docs/services.md): each camera whose image is a service's
+// info.json is given the URL of the whole image at the camera's size (never larger than the
+// service's image). A description that cannot be read, or whose image has another aspect ratio than
+// the camera's, leaves that photograph out, named. The descriptions are fetched a few at a time
+// (through the response cache).
+void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < photos.size(); ++i)
+    if (isIiifInfoUrl(photos[i].imagePath)) todo.push_back(i);
+  if (todo.empty()) return;
+  std::vector<std::string> errors(photos.size());
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t k; (k = next++) < todo.size();) {
+      Photo& p = photos[todo[k]];
+      const std::string url = p.imagePath;
+      try {
+        const IiifImageInfo info = parseIiifInfo(readRemote(url, kMaxJsonBytes, "", RemoteCache::Yes), url);
+        if (const std::string why = iiifSizeMismatch(info, p.camera.width, p.camera.height); !why.empty())
+          throw InputError(inputMessage(url, "", why));
+        const IiifRequest request = iiifRequest(info, p.camera.width);
+        log::debug("camera '" + p.camera.id + "': IIIF " + std::to_string(info.version) + " " +
+                   std::to_string(info.width) + "x" + std::to_string(info.height) + ": " + request.url);
+        p.imagePath = request.url;
+      } catch (const std::exception& e) {
+        errors[todo[k]] = inputMessage("camera '" + p.camera.id + "'", "image", e.what()) + " (photograph left out)";
+      }
+    }
+  };
+  const std::size_t threads = std::min<std::size_t>(todo.size(), 4);
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  std::vector<Photo> kept;
+  kept.reserve(photos.size());
+  for (std::size_t i = 0; i < photos.size(); ++i) {
+    if (errors[i].empty())
+      kept.push_back(std::move(photos[i]));
+    else
+      diag.error(errors[i]);
+  }
+  photos = std::move(kept);
+}
 
 std::string sourcePath(const json& doc, const char* key, const std::string& dir, const std::string& file) {
   const json& s = doc.at(key);
@@ -220,8 +268,8 @@ PointCloud readPointFile(const std::string& p) {
 // misspelt one ("terain"): the scene would load without what it names, so it is refused instead,
 // with the nearest known key. "layers" is read by hv/layers/native/layer_import.h (readLayerFiles).
 void refuseUnknownKeys(const json& doc, const std::string& path) {
-  static const std::vector<std::string> kTop = {"crs",  "origin", "up",      "terrain", "buildings", "mesh",
-                                                "points", "cameras", "colour", "layers", "traffic"};
+  static const std::vector<std::string> kTop = {"crs",    "origin",  "up",     "terrain", "buildings", "mesh",
+                                                "points", "cameras", "colour", "layers",  "traffic"};
   static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
       {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
@@ -281,8 +329,9 @@ void loadTraffic(Scene& scene, const json& doc, const std::string& dir, const st
   if (!t.is_object()) throw InputError(path + ": traffic: expected an object with \"fcd\" or \"csv\"");
   const bool fcd = t.contains("fcd"), csv = t.contains("csv");
   if (fcd == csv)
-    throw InputError(path + ": traffic: expected exactly one of \"fcd\" (SUMO floating car data) and \"csv\" "
-                            "(t,id,x,y,angle,type trajectories)");
+    throw InputError(path +
+                     ": traffic: expected exactly one of \"fcd\" (SUMO floating car data) and \"csv\" "
+                     "(t,id,x,y,angle,type trajectories)");
   const char* key = fcd ? "fcd" : "csv";
   if (!t[key].is_string() || t[key].get<std::string>().empty())
     throw InputError(path + ": traffic." + key + ": expected a string path");
@@ -742,8 +791,9 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
             throw InputError(path + ": cameras." + key +
                              ": not with cameras.postgis (the cameras come either from files or from a catalog)");
         if (!c["postgis"].is_string())
-          throw InputError(path + ": cameras.postgis: expected a PostgreSQL connection string "
-                                  "(\"postgresql://user@host:port/database\")");
+          throw InputError(path +
+                           ": cameras.postgis: expected a PostgreSQL connection string "
+                           "(\"postgresql://user@host:port/database\")");
       } else if (c.contains("table")) {
         throw InputError(path + ": cameras.table: only with cameras.postgis (the catalog's table)");
       }
@@ -802,6 +852,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
             path + ": cameras.format: expected \"native\", \"itowns\", \"colmap\", \"micmac\" or \"ogr\", got \"" +
             format + "\"");
       }
+      resolveIiifImages(scene.photos, diag);
       // Georeferencing: the cameras' CRS (cameras.crs, or the format's own: MicMac's centres are
       // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
       if (c.contains("crs") && !c["crs"].is_string())

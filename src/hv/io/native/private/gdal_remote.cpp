@@ -8,9 +8,21 @@
 #include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
 
+#include "hv/util/log.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
 
 namespace hv {
 
@@ -60,8 +72,58 @@ std::string readVsi(const std::string& path, std::uint64_t maxBytes, const std::
   return out;
 }
 
-std::string readRemoteForUtil(const std::string& url, std::uint64_t maxBytes, const std::string& what) {
-  return readRemote(url, maxBytes, what);
+std::string readRemoteForUtil(const std::string& url, std::uint64_t maxBytes, const std::string& what,
+                              RemoteCache cache) {
+  return readRemote(url, maxBytes, what, cache);
+}
+
+namespace fs = std::filesystem;
+
+std::string envValue(const char* key) {
+  const char* v = std::getenv(key);
+  return v ? std::string(v) : std::string();
+}
+
+// A cached response: "<url>\n<body>". Empty when the file is absent, holds another URL or is
+// over `maxBytes`; a hit is touched, so the trimming keeps it (least recently used goes first).
+std::optional<std::string> cachedResponse(const std::string& file, const std::string& url, std::uint64_t maxBytes) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string first;
+  if (!std::getline(in, first) || first != url) return std::nullopt;
+  std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad() || body.size() > maxBytes) return std::nullopt;
+  std::error_code ec;
+  fs::last_write_time(file, fs::file_time_type::clock::now(), ec);
+  return body;
+}
+
+void storeResponse(const ResponseCacheSettings& settings, const std::string& file, const std::string& url,
+                   const std::string& body) {
+  if (url.size() + 1 + body.size() > settings.capBytes) return;  // would evict everything else
+  std::error_code ec;
+  fs::create_directories(fs::path(file).parent_path(), ec);
+  // Written aside then renamed: a reader (another thread or process) sees a whole response or none.
+  static std::atomic<unsigned> counter{0};
+  const std::string tmp = file + ".tmp" + std::to_string(std::hash<std::thread::id>()(std::this_thread::get_id())) +
+                          "-" + std::to_string(counter++);
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << url << '\n';
+    out.write(body.data(), std::streamsize(body.size()));
+    if (!out) {
+      out.close();
+      fs::remove(tmp, ec);
+      static std::once_flag warned;
+      std::call_once(warned, [&] {
+        log::warn(settings.folder + ": cannot write the response cache (responses are fetched each time)");
+      });
+      return;
+    }
+  }
+  fs::rename(tmp, file, ec);
+  if (ec) fs::remove(tmp, ec);
+  trimResponseCache(settings.folder, settings.capBytes);
 }
 
 }  // namespace
@@ -82,10 +144,85 @@ std::string cacheFolder() {
   return {};
 }
 
-std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std::string& what) {
+ResponseCacheSettings responseCacheSettings() {
+  ResponseCacheSettings s;
+  if (const std::string off = envValue("HV_NO_CACHE"); !off.empty() && off != "0") return s;
+  const std::string folder = cacheFolder();
+  if (folder.empty()) return s;
+  std::uint64_t mib = kDefaultResponseCacheMiB;
+  if (const std::string cap = envValue("HV_CACHE_MAX_MB"); !cap.empty()) {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(cap.c_str(), &end, 10);
+    if (end && *end == '\0' && cap.find('-') == std::string::npos && v <= (std::uint64_t(1) << 40)) {
+      mib = v;
+    } else {
+      static std::once_flag warned;
+      std::call_once(warned, [&] {
+        log::warn("HV_CACHE_MAX_MB: expected a size in MiB, got '" + cap + "' (the default " +
+                  std::to_string(kDefaultResponseCacheMiB) + " MiB is used)");
+      });
+    }
+  }
+  if (mib == 0) return s;
+  s.folder = folder + "/responses";
+  s.capBytes = mib << 20;
+  return s;
+}
+
+std::string responseCacheFile(const std::string& folder, const std::string& url) {
+  // FNV-1a, 64 bits: a file name, not a security boundary (the URL in the file decides a hit).
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : url) h = (h ^ c) * 1099511628211ull;
+  char name[32];
+  std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(h));
+  return folder + "/" + name;
+}
+
+std::uint64_t trimResponseCache(const std::string& folder, std::uint64_t capBytes) {
+  struct Entry {
+    fs::file_time_type time;
+    std::uint64_t bytes;
+    fs::path path;
+  };
+  std::vector<Entry> entries;
+  std::uint64_t total = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e;
+    if (!it->is_regular_file(e) || it->path().filename().string().find(".tmp") != std::string::npos) continue;
+    const std::uint64_t bytes = it->file_size(e);
+    if (e) continue;
+    const fs::file_time_type time = it->last_write_time(e);
+    if (e) continue;
+    entries.push_back({time, bytes, it->path()});
+    total += bytes;
+  }
+  if (total <= capBytes) return total;
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.time < b.time; });
+  for (const Entry& e : entries) {
+    if (total <= capBytes) break;
+    std::error_code r;
+    if (fs::remove(e.path, r)) total -= e.bytes;
+  }
+  return total;
+}
+
+std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std::string& what, RemoteCache cache) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
-  if (startsWithNoCase(url, "http://") || startsWithNoCase(url, "https://")) return readHttp(url, maxBytes, what);
+  if (startsWithNoCase(url, "http://") || startsWithNoCase(url, "https://")) {
+    const ResponseCacheSettings settings =
+        cache == RemoteCache::Yes ? responseCacheSettings() : ResponseCacheSettings{};
+    if (settings.folder.empty()) return readHttp(url, maxBytes, what);
+    const std::string file = responseCacheFile(settings.folder, url);
+    if (std::optional<std::string> hit = cachedResponse(file, url, maxBytes)) {
+      log::debug(url + ": from the response cache " + file);
+      return std::move(*hit);
+    }
+    std::string body = readHttp(url, maxBytes, what);
+    storeResponse(settings, file, url, body);
+    return body;
+  }
   if (startsWithNoCase(url, "/vsi")) return readVsi(url, maxBytes, what);
   throw InputError(inputMessage(url, what,
                                 "a GDAL connection string, which only the terrain (rasters) and buildings "
