@@ -2,9 +2,10 @@
 // --out DIR`): its buildings.gpkg, its photographs' cameras as the views. Run once per mode, each
 // in its own process, so that the peak RSS is the mode's own:
 //   building_stream_bench DIR whole            every tile read and extruded (base height 0)
-//   building_stream_bench DIR stream [THREADS] the tile set indexed, then for each camera in turn
-//                                              the tiles its frustum may see streamed until
-//                                              converged (BuildingStream, 256 MiB, THREADS workers: 2)
+//   building_stream_bench DIR stream [THREADS [reach]]
+//       the tile set indexed, then for each camera in turn the tiles its frustum may see (with
+//       `reach`: within kBuildingReachMetresPerPixel x its focal length) streamed until converged
+//       (BuildingStream, 256 MiB, THREADS workers: 2)
 // Figures: docs/performance.md, "Building streaming".
 #include "hv/camera/frustum.h"
 #include "hv/io/native/footprints.h"
@@ -13,9 +14,11 @@
 
 #include "bench_common.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -33,11 +36,13 @@ long residentKb(const char* field) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: building_stream_bench CITY_DIR whole|stream [THREADS]\n");
+    std::fprintf(stderr, "usage: building_stream_bench CITY_DIR whole|stream [THREADS [reach]]\n");
     return 2;
   }
   const std::string dir = argv[1], mode = argv[2];
   const int threads = argc > 3 ? std::stoi(argv[3]) : 2;
+  // "reach": each camera's tiles within kBuildingReachMetresPerPixel x its focal length only.
+  const bool reach = argc > 4 && std::string(argv[4]) == "reach";
   const std::string path = dir + "/buildings.gpkg";
   std::printf("%s, %s; %s\n", path.c_str(), mode.c_str(), hv::bench::loadAverage().c_str());
   hv::FootprintTileOptions options;
@@ -88,7 +93,9 @@ int main(int argc, char** argv) {
     for (;; ++frames) {
       stream.beginFrame();
       stream.poll(std::chrono::milliseconds(30));
-      cut = stream.select(cam, clip, 0.0);
+      cut = stream.select(cam, clip, 0.0,
+                          reach ? hv::kBuildingReachMetresPerPixel * std::max(cam.focal.x, cam.focal.y)
+                                : std::numeric_limits<double>::infinity());
       stream.endFrame();
       if (firstMs < 0.0) firstMs = hv::bench::msSince(f0);
       if (cut.missing == 0 && stream.pendingTiles() == 0) break;

@@ -38,7 +38,8 @@ void BuildingStream::beginFrame(std::size_t reservedBytes) {
   frameBytes_ = 0;
 }
 
-BuildingCut BuildingStream::select(const Camera& camera, const glm::dmat4& clipFromRender, double priority) {
+BuildingCut BuildingStream::select(const Camera& camera, const glm::dmat4& clipFromRender, double priority,
+                                   double reach) {
   BuildingCut cut;
   const glm::dvec3 eye = camera.center - origin_;
   // The tiles the clip volume may see, nearest first: the budget goes to them first. A tile read
@@ -50,8 +51,9 @@ BuildingCut BuildingStream::select(const Camera& camera, const glm::dmat4& clipF
     const glm::dvec3 lo = k.read ? glm::dvec3(k.lo) : renderBoxes_[t].lo;
     const glm::dvec3 hi = k.read ? glm::dvec3(k.hi) : renderBoxes_[t].hi;
     if (!k.read && renderBoxes_[t].empty()) continue;
-    if (!boxMayBeVisible(clipFromRender, glm::vec3(lo), glm::vec3(hi))) continue;
-    seen.push_back({glm::length(glm::max(glm::max(lo - eye, eye - hi), glm::dvec3(0.0))), t});
+    const double distance = glm::length(glm::max(glm::max(lo - eye, eye - hi), glm::dvec3(0.0)));
+    if (distance > reach || !boxMayBeVisible(clipFromRender, glm::vec3(lo), glm::vec3(hi))) continue;
+    seen.push_back({distance, t});
   }
   std::sort(seen.begin(), seen.end());
   for (const auto& [d, t] : seen) {

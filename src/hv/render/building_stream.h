@@ -35,6 +35,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -76,9 +77,12 @@ class BuildingStream {
   // A new frame: the tiles its cuts use are counted again from none, after `reservedBytes` (the
   // terrain's share of the budget this frame).
   void beginFrame(std::size_t reservedBytes = 0);
-  // The cut for `camera` through `clipFromRender` (its clip volume, render frame); marks its tiles
-  // used by this frame and requests the ones it lacks at `priority` plus their distance.
-  BuildingCut select(const Camera& camera, const glm::dmat4& clipFromRender, double priority);
+  // The cut for `camera` through `clipFromRender` (its clip volume, render frame), of the tiles
+  // whose box comes within `reach` of the camera's centre (infinite: no limit; the scene loader's
+  // rule for photographs is kBuildingReachMetresPerPixel x the focal length in pixels); marks its
+  // tiles used by this frame and requests the ones it lacks at `priority` plus their distance.
+  BuildingCut select(const Camera& camera, const glm::dmat4& clipFromRender, double priority,
+                     double reach = std::numeric_limits<double>::infinity());
   // Evicts the least recently used tiles this frame did not use until the resident bytes plus
   // `otherResidentBytes` (the terrain's) fit the budget. Returns the evicted tiles.
   std::vector<std::uint32_t> endFrame(std::size_t otherResidentBytes = 0);

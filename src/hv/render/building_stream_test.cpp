@@ -144,6 +144,34 @@ TEST(BuildingStream, ConvergedCutIsTheTilesWhoseBuildingsTheViewMaySee) {
   EXPECT_EQ(visibleTiles(aerial()).size(), std::size_t(kTiles * kTiles));
 }
 
+TEST(BuildingStream, AReachKeepsOnlyTheTilesWithinItThatTheViewMaySee) {
+  const View v = lowWest();
+  const double reach = 120.0;
+  std::vector<std::uint32_t> expected;
+  for (std::uint32_t t : visibleTiles(v)) {
+    const Aabb b = tileData(t).mesh.bounds();
+    const glm::vec3 lo(b.lo - kOrigin), hi(b.hi - kOrigin);  // as the stream keeps them
+    const glm::dvec3 eye = v.camera.center - kOrigin;
+    const glm::dvec3 d = glm::max(glm::max(glm::dvec3(lo) - eye, eye - glm::dvec3(hi)), glm::dvec3(0.0));
+    if (glm::length(d) <= reach) expected.push_back(t);
+  }
+  ASSERT_GT(expected.size(), 1u);
+  ASSERT_LT(expected.size(), visibleTiles(v).size());
+  auto reads = std::make_shared<std::atomic<int>>(0);
+  BuildingStream s(makeSet(reads), kOrigin, 0, std::size_t(64) << 20);
+  BuildingCut cut;
+  for (int f = 0; f < 1000; ++f) {
+    s.beginFrame();
+    s.poll();
+    cut = s.select(v.camera, v.clip, 0.0, reach);
+    s.endFrame();
+    if (cut.missing == 0 && s.pendingTiles() == 0) break;
+  }
+  EXPECT_EQ(cut.tiles, expected);
+  // Nothing far beyond the reach was read (the source's boxes are a cell wider each side).
+  EXPECT_LT(*reads, int(visibleTiles(v).size()));
+}
+
 TEST(BuildingStream, TheTilesTogetherAreEveryBuildingOnceWithItsValidity) {
   BuildingStream s(makeSet(), kOrigin, 0, std::size_t(64) << 20);
   std::map<std::uint32_t, BuildingTileMesh> got;
