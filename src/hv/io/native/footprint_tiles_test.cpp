@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <thread>
 
 namespace hv {
 namespace {
@@ -266,6 +267,75 @@ TEST_F(FootprintTiles, SceneLoadsTheTilesThePhotographsSee) {
   const Aabb box = seen.buildings.bounds();
   EXPECT_LE(box.lo.x, 700000.0 + 1.0);
   EXPECT_GE(box.hi.x, 700000.0 + 300.0);
+}
+
+}  // namespace
+}  // namespace hv
+
+namespace hv {
+namespace {
+
+// The tiles read on demand (footprintTileSet, what the renderer streams) are, together, the
+// whole load: each building once (the bar across three borders included), the same triangles,
+// area and volume, read from several threads at once.
+TEST_F(FootprintTiles, TileSetReadOnDemandIsTheWholeLoadEachBuildingOnce) {
+  const std::vector<Building> buildings = blockOfBuildings();
+  double expectedVolume = 0.0;
+  for (const Building& b : buildings) expectedVolume += footprintArea(b.rings) * b.height;
+  for (const std::string& driver : {std::string("GPKG"), std::string("ESRI Shapefile")}) {
+    const std::string path = write(driver, driver == "GPKG" ? "b.gpkg" : "b.shp", buildings);
+    FootprintTileOptions options;
+    options.tileSize = 50.0;
+    FootprintTileSource info;
+    Diagnostics diag;
+    const auto set =
+        footprintTileSet(path, FootprintFields{}, SourceGeoref{}, options, nullptr, -5.0, 200.0, info, diag);
+    ASSERT_TRUE(set && set->read) << driver;
+    EXPECT_EQ(info.tilesTotal, 16u) << driver;
+    EXPECT_EQ(info.features, buildings.size()) << driver;
+    EXPECT_EQ(set->boxes.size(), 16u) << driver;
+    EXPECT_EQ(info.spatialFilter, driver == "GPKG") << driver;
+    EXPECT_EQ(info.note.empty(), driver == "GPKG") << info.note;
+    EXPECT_TRUE(diag.ok()) << driver;
+    // Tile 0 is the cell 5..55 x 5..55, widened by a cell each side, at the heights given.
+    EXPECT_DOUBLE_EQ(set->boxes[0].lo.x, 700005.0 - 50.0);
+    EXPECT_DOUBLE_EQ(set->boxes[0].hi.x, 700055.0 + 50.0);
+    EXPECT_DOUBLE_EQ(set->boxes[0].lo.z, -5.0);
+    EXPECT_DOUBLE_EQ(set->boxes[0].hi.z, 200.0);
+
+    // Every tile, half of them on another thread at the same time.
+    std::vector<BuildingTileData> tiles(set->boxes.size());
+    std::thread other([&] {
+      for (std::uint32_t t = 0; t < tiles.size(); t += 2) tiles[t] = set->read(t);
+    });
+    for (std::uint32_t t = 1; t < tiles.size(); t += 2) tiles[t] = set->read(t);
+    other.join();
+    Mesh all;
+    std::size_t footprints = 0;
+    for (const BuildingTileData& d : tiles) {
+      // Each tile's warnings come with it: here, one a footprint (no terrain, base at 0).
+      EXPECT_EQ(d.warnings.size(), d.validity.size());
+      for (const std::string& w : d.warnings) EXPECT_NE(w.find("base set to 0"), std::string::npos) << w;
+      EXPECT_EQ(d.mesh.triangleTags.size(), d.mesh.triangles.size());
+      for (std::uint32_t tag : d.mesh.triangleTags) EXPECT_LT(tag, d.validity.size());
+      footprints += d.validity.size();
+      all.append(d.mesh);
+    }
+    EXPECT_EQ(footprints, buildings.size()) << driver << ": a building read twice or never";
+    const Mesh whole = buildLod1(readFootprints(path, FootprintFields{}, diag), nullptr, diag);
+    EXPECT_EQ(all.triangles.size(), whole.triangles.size()) << driver;
+    EXPECT_NEAR(all.area(), whole.area(), 1e-6 * whole.area()) << driver;
+    EXPECT_NEAR(all.signedVolume(), expectedVolume, 1e-6 * expectedVolume) << driver;
+    // The bar (180 m x 4 m, 9.5 m tall) in exactly one tile: the first along x.
+    int barTiles = 0;
+    for (std::size_t t = 0; t < tiles.size(); ++t)
+      if (tiles[t].mesh.bounds().size().x > 170.0) {
+        ++barTiles;
+        EXPECT_EQ(t % 4, 0u);
+      }
+    EXPECT_EQ(barTiles, 1) << driver;
+    EXPECT_THROW(set->read(99), std::exception) << driver;
+  }
 }
 
 }  // namespace

@@ -2,11 +2,14 @@
 #pragma once
 
 #include "hv/io/native/georef.h"
+#include "hv/scene/building_tiles.h"
+#include "hv/scene/heightfield.h"
 #include "hv/scene/native/lod1.h"
 #include "hv/util/diagnostics.h"
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,11 +63,13 @@ struct FootprintTileOptions {
   // per tile (at most 256 x 256 tiles per layer).
   double tileSize = 0.0;
   std::size_t perTile = 256;
-  // Which tiles to read, given a tile's box (x, y) in the scene frame; empty: all of them.
+  // Which tiles to read, given a tile's box (x, y) in the scene frame; empty: all of them. Asked
+  // once for every tile, layer by layer, in the order of FootprintTile::index.
   std::function<bool(glm::dvec2 lo, glm::dvec2 hi)> wanted;
 };
 
 struct FootprintTile {
+  std::size_t index = 0;              // among every layer's tiles, in the order `wanted` is asked
   glm::dvec2 lo{0.0}, hi{0.0};        // the tile's box in the scene frame (its corners transformed)
   std::vector<Footprint> footprints;  // in the scene frame, as readFootprints gives them
 };
@@ -75,6 +80,7 @@ struct FootprintTileSource {
   std::size_t tilesTotal = 0;   // over every layer
   std::size_t tilesRead = 0;    // the wanted ones
   std::size_t tilesFailed = 0;  // wanted ones whose reading failed part-way (a service error): reported
+  std::size_t features = 0;     // the layers' feature counts (OGRLayer::GetFeatureCount; 0: a service)
   bool spatialFilter = true;    // every layer read through OGR's spatial filter
   double tileSize = 0.0;        // the first layer's, in its units
   std::string note;             // why a layer was read whole and indexed in memory; empty: none
@@ -88,5 +94,26 @@ struct FootprintTileSource {
 FootprintTileSource readFootprintTiles(const std::string& path, const FootprintFields& fields,
                                        const SourceGeoref& georef, const FootprintTileOptions& options,
                                        const std::function<void(FootprintTile&)>& consume, Diagnostics& diag);
+
+// One tile's footprints extruded as the whole load extrudes them (buildLod1 on `dtm`, null: none),
+// with the validity dates of their attributes (`fields.validFrom`, `validTo`: ISO 8601; one that
+// does not parse is warned about, naming `path` and the footprint, and ignored). Triangle tags
+// index `validity`, one per footprint, in their order.
+BuildingTileData extrudeFootprintTile(const std::vector<Footprint>& footprints, const Heightfield* dtm,
+                                      const FootprintFields& fields, const std::string& path, Diagnostics& diag);
+
+// The buildings of `path` as tiles read on demand (docs/design.md, "Building streaming"): the grid
+// of readFootprintTiles (about options.perTile footprints a tile; `options.wanted` is not used),
+// each tile's box (its cell widened by a cell on each side: buildings crossing its borders) with
+// heights `zlo`..`zhi`, and a reader extruding one tile on `dtm` (shared, may be null) as
+// extrudeFootprintTile does. Through the spatial filter, each read opens the source and reads that
+// one tile (safe from several threads); a source without one is read once now and its footprints
+// kept by tile in memory (`info.note` says so). `info` gets the grid's figures; warnings of the
+// first reading go to `diag`, a tile's to its BuildingTileData. Throws like readFootprintTiles; the
+// reader throws for a tile out of range or one whose reading failed.
+std::shared_ptr<const BuildingTileSet> footprintTileSet(const std::string& path, const FootprintFields& fields,
+                                                        const SourceGeoref& georef, const FootprintTileOptions& options,
+                                                        std::shared_ptr<const Heightfield> dtm, double zlo, double zhi,
+                                                        FootprintTileSource& info, Diagnostics& diag);
 
 }  // namespace hv

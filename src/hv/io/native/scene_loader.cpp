@@ -460,25 +460,12 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfiel
       b.path, b.fields, b.georef, options,
       [&](FootprintTile& tile) {
         const std::uint32_t first = std::uint32_t(scene.buildingValidity.size());
-        Mesh mesh = buildLod1(tile.footprints, dtm.empty() ? nullptr : &dtm, diag);
-        for (std::uint32_t& tag : mesh.triangleTags) tag += first;
-        scene.buildings.append(mesh);
-        for (const Footprint& f : tile.footprints) {
-          DateInterval valid;  // open-ended unless the attributes say otherwise
-          auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
-            if (!text || text->empty()) return;
-            if (const auto d = parseDate(*text)) {
-              (from ? valid.first : valid.last) = from ? d->first : d->last;
-            } else {
-              diag.warn(b.path + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
-                        "' (ignored)");
-            }
-          };
-          bound(f.validFrom, b.fields.validFrom.value_or("valid_from"), true);
-          bound(f.validTo, b.fields.validTo.value_or("valid_to"), false);
-          scene.buildingValidity.push_back(valid);
-          scene.tileOfBuilding.push_back(delivered);
-        }
+        BuildingTileData data =
+            extrudeFootprintTile(tile.footprints, dtm.empty() ? nullptr : &dtm, b.fields, b.path, diag);
+        for (std::uint32_t& tag : data.mesh.triangleTags) tag += first;
+        scene.buildings.append(data.mesh);
+        scene.buildingValidity.insert(scene.buildingValidity.end(), data.validity.begin(), data.validity.end());
+        scene.tileOfBuilding.insert(scene.tileOfBuilding.end(), data.validity.size(), delivered);
         ++delivered;
       },
       diag);

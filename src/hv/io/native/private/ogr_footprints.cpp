@@ -406,6 +406,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
                                   std::string("no layer in this ") + ds->GetDriverName() +
                                       " source (a WFS TYPENAME or an OGC API collection that the "
                                       "service does not offer? MapServer prefixes its type names: ms:...)"));
+  std::size_t layerBase = 0;  // the index of the layer's first tile
   for (int l = 0; l < layerCount; ++l) {
     OGRLayer* layer = ds->GetLayer(l);
     CPLErrorReset();
@@ -418,6 +419,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
     if (l == 0) source.tileSize = grid.size;
     const int cells = grid.nx * grid.ny;
     source.tilesTotal += std::size_t(cells);
+    if (!server) source.features += std::size_t(std::max<GIntBig>(0, layer->GetFeatureCount(TRUE)));
     std::vector<char> wanted(static_cast<std::size_t>(cells), 1);
     FootprintTile tile;
     for (int c = 0; c < cells; ++c) {
@@ -431,6 +433,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
       if (frame.transform)
         levelsAsTheyAre = georeferenceLayer(footprints, 0, *frame.transform, path, diag) || levelsAsTheyAre;
       if (footprints.empty()) return;
+      tile.index = layerBase + std::size_t(cell);
       std::tie(tile.lo, tile.hi) = sceneBox(grid, cell, frame.transform);
       tile.footprints = std::move(footprints);
       consume(tile);
@@ -519,6 +522,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
       for (int c = 0; c < cells; ++c) deliver(c, byCell[std::size_t(c)]);
     }
     if (levelsAsTheyAre) warnLevelsAsTheyAre(*frame.transform, path, diag);
+    layerBase += std::size_t(cells);
   }
   return source;
 }

@@ -1,0 +1,112 @@
+// Buildings as tiles read on demand (hv/io/native/footprints.h, footprintTileSet) and the one
+// extrusion both the whole load and the streamed tiles go through (extrudeFootprintTile).
+#include "hv/io/native/footprints.h"
+
+#include <algorithm>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+namespace hv {
+
+BuildingTileData extrudeFootprintTile(const std::vector<Footprint>& footprints, const Heightfield* dtm,
+                                      const FootprintFields& fields, const std::string& path, Diagnostics& diag) {
+  BuildingTileData out;
+  out.mesh = buildLod1(footprints, dtm, diag);
+  out.validity.reserve(footprints.size());
+  for (const Footprint& f : footprints) {
+    DateInterval valid;  // open-ended unless the attributes say otherwise
+    auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
+      if (!text || text->empty()) return;
+      if (const auto d = parseDate(*text)) {
+        (from ? valid.first : valid.last) = from ? d->first : d->last;
+      } else {
+        diag.warn(path + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
+                  "' (ignored)");
+      }
+    };
+    bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
+    bound(f.validTo, fields.validTo.value_or("valid_to"), false);
+    out.validity.push_back(valid);
+  }
+  return out;
+}
+
+std::shared_ptr<const BuildingTileSet> footprintTileSet(const std::string& path, const FootprintFields& fields,
+                                                        const SourceGeoref& georef, const FootprintTileOptions& options,
+                                                        std::shared_ptr<const Heightfield> dtm, double zlo, double zhi,
+                                                        FootprintTileSource& info, Diagnostics& diag) {
+  auto set = std::make_shared<BuildingTileSet>();
+  // First the grid: every tile's box, nothing read through a spatial filter.
+  FootprintTileOptions grid = options;
+  grid.wanted = [&](glm::dvec2 lo, glm::dvec2 hi) {
+    // Widened by a tile on each side: a building crossing a border reaches into the neighbours.
+    const glm::dvec2 pad = glm::max(hi - lo, glm::dvec2(0.0));
+    Aabb box;
+    box.lo = {lo - pad, zlo};
+    box.hi = {hi + pad, zhi};
+    set->boxes.push_back(box);
+    return false;
+  };
+  info = readFootprintTiles(
+      path, fields, georef, grid, [](FootprintTile&) {}, diag);
+  info.tilesRead = 0;
+  const FootprintTileOptions tileOptions = [&] {
+    FootprintTileOptions o = options;
+    o.wanted = nullptr;
+    return o;
+  }();
+  if (info.spatialFilter) {
+    // One tile at a time through the spatial filter, on whichever thread asks.
+    set->read = [path, fields, georef, tileOptions, dtm, count = set->boxes.size()](std::uint32_t tile) {
+      if (tile >= count)
+        throw std::out_of_range(path + ": building tile " + std::to_string(tile) + " of " + std::to_string(count));
+      Diagnostics diag;
+      FootprintTileOptions o = tileOptions;
+      std::size_t asked = 0;
+      o.wanted = [&asked, tile](glm::dvec2, glm::dvec2) { return asked++ == tile; };
+      std::vector<Footprint> footprints;
+      readFootprintTiles(
+          path, fields, georef, o,
+          [&](FootprintTile& t) {
+            if (t.index != tile) return;
+            for (Footprint& f : t.footprints) footprints.push_back(std::move(f));
+          },
+          diag);
+      if (!diag.errors.empty()) throw std::runtime_error(diag.errors.front());
+      BuildingTileData data = extrudeFootprintTile(footprints, dtm.get(), fields, path, diag);
+      data.warnings = std::move(diag.warnings);
+      return data;
+    };
+  } else {
+    // No spatial index: read once, the footprints kept by tile (the grid's warnings already said).
+    auto byTile = std::make_shared<std::map<std::size_t, std::vector<Footprint>>>();
+    Diagnostics quiet;
+    readFootprintTiles(
+        path, fields, georef, tileOptions,
+        [&](FootprintTile& t) {
+          auto& into = (*byTile)[t.index];
+          for (Footprint& f : t.footprints) into.push_back(std::move(f));
+        },
+        quiet);
+    // The features' warnings come with this reading (the grid's skipped them), bar those both said.
+    for (std::string& w : quiet.warnings)
+      if (std::find(diag.warnings.begin(), diag.warnings.end(), w) == diag.warnings.end()) diag.warn(std::move(w));
+    for (std::string& e : quiet.errors) diag.error(std::move(e));
+    set->read = [byTile, fields, path, dtm, count = set->boxes.size()](std::uint32_t tile) {
+      if (tile >= count)
+        throw std::out_of_range(path + ": building tile " + std::to_string(tile) + " of " + std::to_string(count));
+      static const std::vector<Footprint> kNone;
+      const auto it = byTile->find(tile);
+      Diagnostics diag;
+      BuildingTileData data =
+          extrudeFootprintTile(it == byTile->end() ? kNone : it->second, dtm.get(), fields, path, diag);
+      data.warnings = std::move(diag.warnings);
+      return data;
+    };
+  }
+  return set;
+}
+
+}  // namespace hv
