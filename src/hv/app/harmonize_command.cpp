@@ -118,9 +118,10 @@ void addHarmonizeCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();
   cmd->add_option("--prior", o->settings.prior,
-                  "pull of each correction towards the identity, relative to its pairs' weight: the default only keeps "
-                  "the equations definite; 0.1 holds photographs whose overlaps disagree through the proxy (LOD1 walls, "
-                  "unmasked cars) near their colours, at the cost of undoing casts only in part (docs/design.md)")
+                  "pull of each correction towards the identity, relative to its pairs' weight: the default holds "
+                  "photographs whose overlaps disagree through the proxy (LOD1 walls, unmasked cars) near their colours, "
+                  "at the cost of undoing casts only in part; 1e-6 undoes the casts of overlaps that agree exactly "
+                  "(docs/design.md)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   cmd->add_option("--size", o->sliceSide, "photographs are sampled at most this many pixels on their longer side")

@@ -35,9 +35,13 @@ struct HarmonizeSettings {
   // The depth test: the ray back from the other photograph's centre may stop this much short of
   // the point (relative to its distance, plus 1 cm) without the point counting as hidden.
   double occlusionTolerance = 1e-3;
-  // A ridge towards the identity, relative to a photograph's pair weight: tiny, only so that the
-  // normal equations stay definite (the gauge is fixed apart, see solveColourCorrections).
-  double prior = 1e-6;
+  // A ridge towards the identity, relative to a photograph's pair weight (the gauge is fixed
+  // apart, see solveColourCorrections). 0.1 holds a photograph whose overlaps disagree through an
+  // inexact proxy (LOD1 walls, a coarse DTM, unmasked cars) near its own colours, where a tiny one
+  // lets the solve squeeze its colours towards a constant; on exact overlaps it undoes a cast only
+  // in part, which 1e-6 (just enough to keep the equations definite) undoes entirely. Measured in
+  // docs/design.md, "Photographs that agree in colour".
+  double prior = 0.1;
   double huber = 0.05;  // colour units: pair residuals beyond it are down-weighted
   int iterations = 10;  // reweighting iterations
 };

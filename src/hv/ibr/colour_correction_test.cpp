@@ -97,6 +97,7 @@ TEST(ColourCorrection, RecoversKnownCastsWhenMostPhotographsAgree) {
   const Rig rig(kCasts);
   HarmonizeSettings s;
   s.samplesPerImage = 3000;
+  s.prior = 1e-6;  // exact overlaps: nothing for the default's pull towards the identity to guard against
   const auto pairs = collectColourPairs(rig.overlap, rig.caster, s);
   ASSERT_GT(pairs.size(), 5000u);
   const HarmonizeResult r = solveColourCorrections(kCasts.size(), pairs, s);
@@ -127,6 +128,7 @@ TEST(ColourCorrection, RecoversRelativeCastsWhenNoneAgree) {
   const Rig rig(casts);
   HarmonizeSettings s;
   s.samplesPerImage = 3000;
+  s.prior = 1e-6;  // exact overlaps, as above
   const HarmonizeResult r = solveColourCorrections(casts.size(), collectColourPairs(rig.overlap, rig.caster, s), s);
   // ref(c) = h_0(cast_0(c)): what photograph 0 shows for a true colour c.
   ColourCorrection ref;
@@ -191,8 +193,8 @@ TEST(ColourCorrection, PhotographWithoutPairsKeepsTheIdentity) {
   EXPECT_TRUE(solveColourCorrections(0, pairs, HarmonizeSettings{}).corrections.empty());
 }
 
-// The prior (harmonize --prior) trades the overlaps against the identity: the default leaves a
-// cast to the overlaps alone, a strong one undoes it only in part, and never past it.
+// The prior (harmonize --prior) trades the overlaps against the identity: a tiny one leaves a cast
+// to the overlaps alone, the default (0.1) undoes it only in part, and never past it.
 TEST(ColourCorrection, StrongPriorUndoesACastInPartOnly) {
   // Photographs 0 and 1 agree; photograph 2 shows every colour at 0.8 of its value (its
   // correction's gain is 1.25).
@@ -204,12 +206,12 @@ TEST(ColourCorrection, StrongPriorUndoesACastInPartOnly) {
     pairs.push_back({0, 2, colour, 0.8 * colour});
     pairs.push_back({1, 2, colour, 0.8 * colour});
   }
-  const HarmonizeResult exact = solveColourCorrections(3, pairs, HarmonizeSettings{});
+  HarmonizeSettings tiny;
+  tiny.prior = 1e-6;
+  const HarmonizeResult exact = solveColourCorrections(3, pairs, tiny);
   EXPECT_NEAR(exact.corrections[2].gain.r, 1.25, 1e-3);
   EXPECT_NEAR(exact.corrections[0].gain.r, 1.0, 1e-3);
-  HarmonizeSettings strong;
-  strong.prior = 0.1;
-  const HarmonizeResult held = solveColourCorrections(3, pairs, strong);
+  const HarmonizeResult held = solveColourCorrections(3, pairs, HarmonizeSettings{});  // the default, 0.1
   for (int ch = 0; ch < 2; ++ch) {  // blue is 0.5 everywhere: its gain and offset trade, only the colour counts
     EXPECT_GT(held.corrections[2].gain[ch], 1.02) << ch;
     EXPECT_LT(held.corrections[2].gain[ch], 1.24) << ch;
