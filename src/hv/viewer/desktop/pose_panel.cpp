@@ -31,7 +31,7 @@ bool PosePanel::enter(const Scene& scene, int photo) {
   }
   photo_ = photo;
   original_ = p.camera;
-  saved_ = false;
+  savedVersion_ = -1;
   textureSize_ = glm::ivec2(0);
   session_ = std::make_unique<PoseSession>(p.camera);
   std::snprintf(savePath_, sizeof savePath_, "%s-posed.json", p.camera.id.c_str());
@@ -78,7 +78,7 @@ bool PosePanel::save(const Scene& scene, const std::string& path, bool replace) 
     message_ = "not saved: " + out.string() + ": cannot write";
     return false;
   }
-  saved_ = true;
+  savedVersion_ = session_->solutionVersion();
   message_ = "wrote " + out.string();
   std::cout << "pose: " << message_ << "\n";
   return true;

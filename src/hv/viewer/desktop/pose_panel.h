@@ -34,7 +34,8 @@ class PosePanel {
   pose::PoseSession* session() { return session_.get(); }
   // The photograph's camera before pose mode (put back on leaving unless saved).
   const Camera& original() const { return original_; }
-  bool saved() const { return saved_; }
+  // The current solution is the one last saved.
+  bool saved() const { return session_ && savedVersion_ == session_->solutionVersion(); }
 
   // A click in the 3D view at framebuffer pixel `px` of `view`: the ray cast into `scene`.
   void clickView(const Camera& view, glm::dvec2 px, const RayQuery* scene);
@@ -65,7 +66,7 @@ class PosePanel {
   std::unique_ptr<pose::PoseSession> session_;
   int photo_ = -1;
   Camera original_;
-  bool saved_ = false;
+  int savedVersion_ = -1;
   Image8 image_;
   gpu::ImageTexture texture_;
   glm::ivec2 textureSize_{0};
