@@ -121,7 +121,7 @@ function(hv_define_modules)
   if(HV_HAVE_VIEWER)
     hv_module(gpu_glfw DIRS gpu/platform/glfw DEPS gpu PRIVATE_EXTERNAL glfw imgui)
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/no_viewer\\.cpp$" DEPS session
-              PRIVATE_DEPS camera gpu gpu_glfw image image_native io scene_native viewer PRIVATE_EXTERNAL glfw imgui)
+              PRIVATE_DEPS camera gpu gpu_glfw image image_native io pose scene_native viewer PRIVATE_EXTERNAL glfw imgui)
   else()
     # Without GLFW and Dear ImGui, `histoview view` says what to install (no_viewer.cpp).
     hv_module(viewer_desktop DIRS viewer/desktop EXCLUDE ".*/viewer_app\\.cpp$" DEPS session)

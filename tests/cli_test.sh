@@ -809,6 +809,35 @@ run pose-bad pose "$city/scene.json" --image p0001 --gcp "$DIR/gcp-bad.csv" -o "
 expect_rc "pose: a CSV with a word for a number" 2
 expect_out "pose: bad CSV" "gcp-bad.csv: line 3: column 'x': expected a finite number, got 'thirty'"
 check "pose: nothing written on error" test ! -e "$DIR/posed-bad.json"
+# GeoPose (docs/pose.md): the demo is in Lambert-93, about 0.5 degree of longitude west of its
+# central meridian, so the grid is the local east-north-up frame within a meridian convergence of
+# about 0.5 degree: the GeoPose forward axis (the quaternion's y) is the camera's viewing direction
+# (its rotation's third row) in the grid within 1 degree, and the position lies in Paris.
+run pose-geopose pose "$city/scene.json" --image p0001 --gcp "$DIR/gcp.csv" --start "$DIR/pose-start.json" \
+  -o "$DIR/posed-gp.json" --geopose "$DIR/posed.geopose.json"
+expect_rc "pose --geopose" 0
+check "pose --geopose: Basic-Quaternion layout, in Paris, forward axis the camera's" python3 - "$DIR/posed.geopose.json" "$DIR/posed-gp.json" <<'PY'
+import json, math, sys
+g = json.load(open(sys.argv[1]))
+c = json.load(open(sys.argv[2]))["cameras"][0]
+assert sorted(g) == ["position", "quaternion"], g
+assert sorted(g["position"]) == ["h", "lat", "lon"] and sorted(g["quaternion"]) == ["w", "x", "y", "z"], g
+lat, lon, h = (g["position"][k] for k in ("lat", "lon", "h"))
+x, y, z, w = (g["quaternion"][k] for k in "xyzw")
+assert abs(x * x + y * y + z * z + w * w - 1) < 1e-9
+fwd = (2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w))   # the rotation's second column
+cam = c["rotation"][6:9]   # the camera's z axis in the world (its rotation's third row)
+deg = math.degrees(math.acos(max(-1.0, min(1.0, sum(a * b for a, b in zip(fwd, cam))))))
+print(f"lat {lat:.6f} lon {lon:.6f} h {h:.2f}; forward axis {deg:.3f} deg from the camera's in the grid")
+sys.exit(0 if 48.7 < lat < 49.0 and 2.2 < lon < 2.5 and abs(h - c["center"][2]) < 1e-6 and deg < 1.0 else 1)
+PY
+python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); s.pop("crs"); json.dump(s, open(sys.argv[2], "w"))' \
+  "$city/scene.json" "$city/scene-nocrs.json"
+run pose-geopose-nocrs pose "$city/scene-nocrs.json" --image p0001 --gcp "$DIR/gcp.csv" -o "$DIR/posed-nocrs.json" \
+  --geopose "$DIR/nocrs.geopose.json"
+expect_rc "pose --geopose: a scene without a CRS" 2
+expect_out "pose --geopose: no CRS" "--geopose: .*scene-nocrs.json has no CRS"
+check "pose --geopose: nothing written without a CRS" test ! -e "$DIR/nocrs.geopose.json"
 
 # --- catalog load: what fails without a server (the rest, with one: ctest -R '^catalog$')
 run catalog-file catalog load "$city/scene.json" "$DIR/cameras.json"

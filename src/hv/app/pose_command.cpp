@@ -1,8 +1,10 @@
 #include "hv/app/pose_command.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/native/georef.h"
 #include "hv/io/native/micmac_cameras.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/pose/geopose.h"
 #include "hv/pose/pose.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
@@ -32,6 +34,7 @@ struct PoseCommandOptions {
   std::string refine = "focal";
   std::string size;
   std::string out;
+  std::string geopose;
   double inlierPx = 0.0;
 };
 
@@ -71,6 +74,10 @@ namespace {
 int runPose(const PoseCommandOptions& o) {
   Diagnostics diag;
   const Scene scene = loadScene(o.scene, diag);  // InputError: printed by setAction, exit code 2
+  if (!o.geopose.empty() && scene.crs.empty())
+    throw InputError("--geopose: " + o.scene +
+                     " has no CRS (scene.json `crs`), so its cameras have no place on the Earth; declare the scene "
+                     "CRS (e.g. \"crs\": \"EPSG:2154\") or leave out --geopose");
   std::string imageFile;
   for (const Photo& p : scene.photos)
     if (p.camera.id == o.image) imageFile = p.imagePath;
@@ -147,6 +154,28 @@ int runPose(const PoseCommandOptions& o) {
     return kExitNotProduced;
   }
   std::cout << "wrote " << out.string() << "\n";
+  if (!o.geopose.empty()) {
+    const GeodeticFrame g = geodeticFrameAt(scene.crs, c.center, diag);
+    pose::GeoPose gp;
+    gp.latDeg = g.latDeg;
+    gp.lonDeg = g.lonDeg;
+    gp.heightM = g.heightM;
+    gp.quaternion = pose::quaternionOf(pose::enuFromCameraObject(c.camFromWorld, g.enuFromWorld));
+    if (g.heightIsZ)
+      std::cout << "note: the scene CRS has no vertical axis: the GeoPose height is the camera's z, taken as a height "
+                   "above the WGS 84 ellipsoid\n";
+    const fs::path gpath = fs::absolute(o.geopose);
+    if (gpath.has_parent_path()) fs::create_directories(gpath.parent_path());
+    std::ofstream gf(gpath, std::ios::binary | std::ios::trunc);
+    gf << pose::geoPoseJson(gp);
+    gf.close();
+    if (!gf) {
+      std::cerr << "error: " << gpath.string() << ": cannot write\n";
+      return kExitNotProduced;
+    }
+    std::cout << std::setprecision(9) << "geopose    lat " << gp.latDeg << ", lon " << gp.lonDeg << ", h "
+              << std::setprecision(3) << gp.heightM << " m\nwrote " << gpath.string() << "\n";
+  }
   return exitStatus(diag);
 }
 
@@ -178,6 +207,9 @@ void addPoseCommand(CLI::App& app, int& exitCode) {
                   "a point is an inlier within this many pixels (default 0.5 % of the image diagonal, at least 2)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--out", o->out, "the cameras.json to write")->required();
+  cmd->add_option("--geopose", o->geopose,
+                  "also write the camera as an OGC GeoPose 1.0 Basic-Quaternion JSON (WGS 84 position, orientation "
+                  "in the local East-North-Up frame; docs/pose.md); the scene must have a CRS");
   setAction(*cmd, exitCode, [o] { return runPose(*o); });
 }
 

@@ -52,6 +52,11 @@ void addViewCommand(CLI::App& app, int& exitCode) {
                   "--then-now)")
       ->check(CLI::Range(0.0, 1.0))
       ->excludes("--then-now-opacity");
+  cmd->add_option("--pose-script", o->poseScript,
+                  "pose mode's clicks from a file, run at the first frame: enter ID, photo U V (photograph pixels), "
+                  "view X Y (window pixels of the first view), remove N, focal on|off, save PATH [replace], leave "
+                  "(docs/viewer.md)")
+      ->check(CLI::ExistingFile);
   setAction(*cmd, exitCode, [o] { return viewer::run(*o); });
 }
 

@@ -379,6 +379,56 @@ Camera GeoTransform::camera(const Camera& c, double* nonOrthogonality) const {
   return out;
 }
 
+GeodeticFrame geodeticFrameAt(const std::string& sceneCrs, const glm::dvec3& world, Diagnostics& diag) {
+  if (sceneCrs.empty())
+    throw InputError("the scene has no CRS (scene.json `crs`): a position on the Earth needs one, e.g. \"EPSG:2154\"");
+  const CrsDescription d = describeCrs(sceneCrs);
+  if (d.geographic)
+    throw InputError("scene CRS '" + sceneCrs + "' is geographic: expected a projected or geocentric CRS");
+  // The scene frame is the CRS in metres (header comment): back to the CRS's units.
+  const double xyUnit = d.geocentric || !(d.horizontalToMetre > 0.0) ? 1.0 : d.horizontalToMetre;
+  const double zUnit = d.geocentric ? 1.0 : d.heightToMetre();
+  const glm::dvec3 native(world.x / xyUnit, world.y / xyUnit, world.z / zUnit);
+
+  GeodeticFrame f;
+  f.heightIsZ = !d.hasVerticalAxis() && !d.geocentric;
+  {
+    CtxPtr ctx = newContext();
+    PjPtr src = createCrs(ctx.get(), sceneCrs), dst = createCrs(ctx.get(), "EPSG:4979");
+    PjPtr op(proj_create_crs_to_crs_from_pj(ctx.get(), src.get(), dst.get(), nullptr, nullptr));
+    PjPtr norm(op ? proj_normalize_for_visualization(ctx.get(), op.get()) : nullptr);
+    if (!norm) throw InputError("scene CRS '" + sceneCrs + "': PROJ finds no operation to WGS 84 (EPSG:4979)");
+    proj_errno_reset(norm.get());
+    const PJ_COORD out = proj_trans(norm.get(), PJ_FWD, proj_coord(native.x, native.y, native.z, 0.0));
+    if (!std::isfinite(out.xyz.x) || !std::isfinite(out.xyz.y) || !std::isfinite(out.xyz.z) ||
+        std::abs(out.xyz.x) >= HUGE_VAL / 2) {
+      std::ostringstream s;
+      s.precision(17);
+      s << "scene CRS '" << sceneCrs << "': PROJ cannot bring (" << world.x << ", " << world.y << ", " << world.z
+        << ") to WGS 84: " << proj_context_errno_string(ctx.get(), proj_errno(norm.get()));
+      throw InputError(s.str());
+    }
+    f.lonDeg = out.xyz.x;
+    f.latDeg = out.xyz.y;
+    f.heightM = out.xyz.z;
+  }
+  const GeoTransform toEcef(sceneCrs, "EPSG:4978", diag);
+  glm::dmat3 ecefFromWorld = toEcef.jacobian(native);
+  ecefFromWorld[0] /= xyUnit, ecefFromWorld[1] /= xyUnit, ecefFromWorld[2] /= zUnit;
+  const double lat = f.latDeg * M_PI / 180.0, lon = f.lonDeg * M_PI / 180.0;
+  const double sp = std::sin(lat), cp = std::cos(lat), sl = std::sin(lon), cl = std::cos(lon);
+  const glm::dmat3 enuFromEcef = glm::transpose(
+      glm::dmat3(glm::dvec3(-sl, cl, 0.0), glm::dvec3(-sp * cl, -sp * sl, cp), glm::dvec3(cp * cl, cp * sl, sp)));
+  const glm::dmat3 j = enuFromEcef * ecefFromWorld;
+  const glm::dmat3 unit = j / std::cbrt(glm::determinant(j));
+  const glm::dmat3 g = glm::transpose(unit) * unit;
+  for (int col = 0; col < 3; ++col)
+    for (int row = 0; row < 3; ++row)
+      f.nonOrthogonality = std::max(f.nonOrthogonality, std::abs(g[col][row] - (row == col ? 1.0 : 0.0)));
+  f.enuFromWorld = orthonormalize(j);
+  return f;
+}
+
 std::string sourceCrsOf(const SourceGeoref& georef, const std::string& declared) {
   if (georef.sceneCrs.empty()) return {};
   if (!georef.crs.empty()) return georef.crs;

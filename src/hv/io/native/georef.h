@@ -101,6 +101,23 @@ class GeoTransform {
   std::unique_ptr<Impl> impl_;
 };
 
+// Where a point of the scene frame is on the Earth, for GeoPose (hv/pose/geopose.h): its WGS 84
+// latitude, longitude (degrees) and height, through PROJ from the scene CRS to EPSG:4979, and the
+// rotation from the scene frame's directions to the local East-North-Up ones there (the rows of
+// `enuFromWorld` are east, north, up in the scene frame), from the Jacobian of the scene CRS ->
+// EPSG:4978 (geocentric) transform made the nearest rotation (a conformal projection's Jacobian is
+// a scaled rotation but for the horizontal scale factor; `nonOrthogonality` is what was removed,
+// as GeoTransform::camera says). A scene CRS without a vertical axis passes z through as the
+// ellipsoidal height (`heightIsZ`). Throws InputError when `sceneCrs` is empty or PROJ cannot
+// transform the point.
+struct GeodeticFrame {
+  double latDeg = 0.0, lonDeg = 0.0, heightM = 0.0;
+  glm::dmat3 enuFromWorld{1.0};
+  double nonOrthogonality = 0.0;
+  bool heightIsZ = false;
+};
+GeodeticFrame geodeticFrameAt(const std::string& sceneCrs, const glm::dvec3& worldPoint, Diagnostics& diag);
+
 // How scene.json brings one source (terrain, buildings, mesh, points) into the scene frame.
 struct SourceGeoref {
   std::string crs;       // scene.json `<source>.crs`: overrides what the file declares; empty: none

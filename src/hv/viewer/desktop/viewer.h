@@ -27,6 +27,7 @@ struct ViewerOptions {
   bool thenNow = false;           // start in then and now at --camera (a photograph)
   double thenNowOpacity = -1;     // >= 0: then and now with this opacity
   double thenNowSwipe = -1;       // >= 0: then and now with a swipe at this position
+  std::string poseScript;         // pose mode's clicks from this file, at the first frame (pose_panel.h)
 };
 
 // True when this build has the viewer.

@@ -12,6 +12,7 @@
 #include "hv/scene/native/raycast.h"
 #include "hv/scene/scene_scale.h"
 #include "hv/viewer/desktop/debug_panel.h"
+#include "hv/viewer/desktop/pose_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
 #include "hv/viewer/desktop/timeline_panel.h"
 #include "hv/viewer/key_events.h"
@@ -31,6 +32,7 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 namespace hv::viewer {
 
@@ -150,6 +152,7 @@ class Viewer {
       if (o_.thenNowSwipe >= 0.0) thenNow_.settings = {ThenNowMode::Swipe, 1.0, o_.thenNowSwipe};
       enterThenNow(focused_, false);
     }
+    pose_ = std::make_unique<PosePanel>(std::vector<std::string>{o_.view.scenePath, o_.view.viewsPath});
     presenter_ = std::make_unique<gpu::Presenter>();
     return loop();
   }
@@ -234,6 +237,49 @@ class Viewer {
         panel_.message = "then and now: choose a photograph first (the list, N or P)";
     }
     if (keys_.pressed(GLFW_KEY_SPACE)) togglePlay();
+    if (keys_.pressed(GLFW_KEY_O)) togglePose();
+  }
+
+  // Pose mode (pose_panel.h) at the chosen photograph; its solved camera replaces the
+  // photograph's in the renderer while the mode lasts, and after it once saved.
+  void togglePose() {
+    if (pose_->on()) return leavePose();
+    if (focused_ < 0) return void(panel_.message = "pose mode: choose a photograph first (the list, N or P)");
+    if (!pose_->enter(session_->scene, focused_)) panel_.message = pose_->message();
+  }
+  void leavePose() {
+    const int photo = pose_->photo();
+    const bool restore = pose_->session() && pose_->session()->solution() && !pose_->saved();
+    pose_->leave();
+    if (restore) setPhotoCamera(photo, pose_->original());
+  }
+  void setPhotoCamera(int photo, const Camera& camera) {
+    leaveThenNow();
+    session_->scene.photos[size_t(photo)].camera = camera;
+    const render::RenderSettings s = renderer_->settings();
+    rebuildRenderer(s);
+  }
+  void poseFrame() {
+    if (!o_.poseScript.empty()) {
+      const Camera view = nav_->camera();  // the script's clicks are in this view, the first one
+      for (const std::string& e :
+           pose_->runScript(std::exchange(o_.poseScript, ""), session_->scene, view, caster_.get()))
+        std::cerr << "error: " << e << "\n", poseScriptFailed_ = true;
+      if (pose_->on() && pose_->session()->solution())
+        setPhotoCamera(pose_->photo(), pose_->session()->solution()->camera);
+    }
+    if (!pose_->on()) return;
+    const ImGuiIO& io = ImGui::GetIO();
+    if (!io.WantCaptureMouse && ImGui::IsMouseReleased(ImGuiMouseButton_Left) && io.MouseDragMaxDistanceSqr[0] < 9.0f)
+      pose_->clickView(nav_->camera(),
+                       {io.MousePos.x * io.DisplayFramebufferScale.x, io.MousePos.y * io.DisplayFramebufferScale.y},
+                       caster_.get());
+    const int photo = pose_->photo();
+    const PosePanel::Result r = pose_->draw(session_->scene, thenNow_.settings.opacity);
+    if (r.cameraChanged)
+      setPhotoCamera(photo, pose_->session()->solution() ? pose_->session()->solution()->camera : pose_->original());
+    if (r.lookFromSolved) thenNow_.settings.mode = ThenNowMode::Opacity, enterThenNow(photo, true);
+    if (r.leave) leavePose();
   }
 
   void togglePlay() {
@@ -409,8 +455,9 @@ class Viewer {
       if (ImGui::SliderFloat("eye height", &eye, 0.3f, 10.0f, "%.2f")) nav_->settings().eyeHeight = eye;
       float ms = float(movingScale_);
       if (ImGui::SliderFloat("resolution moving", &ms, 0.1f, 1.0f, "%.2f")) movingScale_ = ms;
-      ImGui::TextDisabled("WASD/arrows move, Q/E down/up, drag to look,\nshift faster, wheel speed, N/P next/previous "
-                          "photo,\nC heat map, F frusta, F2 screenshot, R record path, H panel");
+      ImGui::TextDisabled(
+          "WASD/arrows move, Q/E down/up, drag to look,\nshift faster, wheel speed, N/P next/previous "
+          "photo,\nC heat map, F frusta, F2 screenshot, R record path, H panel,\nO pose mode");
     }
 
     if (ImGui::CollapsingHeader("Photographs", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -441,6 +488,8 @@ class Viewer {
       if (focused_ >= 0) {
         bool on = thenNow_.on;
         if (ImGui::Checkbox("then and now (T)", &on)) on ? enterThenNow(focused_, true) : leaveThenNow();
+        ImGui::SameLine();
+        if (bool posing = pose_->on(); ImGui::Checkbox("pose (O)", &posing)) togglePose();
         if (thenNow_.on) {
           int mode = thenNow_.settings.mode == ThenNowMode::Swipe;
           ImGui::SameLine();
@@ -646,6 +695,7 @@ class Viewer {
       if (overlay) drawThenNow(fb);
       // The panel after the frame, so it shows this frame's state; what it changes applies next frame.
       if (panelThisFrame) drawPanel();
+      poseFrame();
       window_->endUi();
       if (shotAfterUi) writeScreenshot(o_.screenshot, fb);
       if (requestedAfterUi) writeRequestedScreenshot(fb);
@@ -680,6 +730,7 @@ class Viewer {
       }
     }
     if (recording_) toggleRecording();
+    if (poseScriptFailed_) exitCode = 2;
     if (o_.printFrameTimes) {
       std::cout << std::fixed << std::setprecision(1) << "frame times: " << allMs.size() << " rendered frame(s), median "
                 << median(allMs) << " ms";
@@ -707,6 +758,8 @@ class Viewer {
   PanelState panel_;
   SettingsPanel settingsPanel_;
   std::unique_ptr<TimelinePanel> timeline_;
+  std::unique_ptr<PosePanel> pose_;
+  bool poseScriptFailed_ = false;
   ThenNowState thenNow_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;
