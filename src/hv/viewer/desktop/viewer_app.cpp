@@ -14,6 +14,7 @@
 #include "hv/viewer/desktop/debug_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
 #include "hv/viewer/desktop/timeline_panel.h"
+#include "hv/viewer/desktop/traffic_panel.h"
 #include "hv/viewer/key_events.h"
 #include "hv/viewer/navigation.h"
 #include "hv/viewer/then_now.h"
@@ -139,6 +140,8 @@ class Viewer {
       timeline_->play().yearsPerSecond = o_.playYearsPerSecond;
       timeline_->startPlay(rs);
     }
+    traffic_ = std::make_unique<TrafficPanel>(scene, rs);
+    if (o_.trafficRate > 0.0 && traffic_->present()) traffic_->play().rate = o_.trafficRate, traffic_->toggle(rs);
 
     nav_->setCamera(startCamera(window_->framebufferSize()));
     if (o_.walk) nav_->setMode(Mode::Walk);
@@ -234,6 +237,7 @@ class Viewer {
         panel_.message = "then and now: choose a photograph first (the list, N or P)";
     }
     if (keys_.pressed(GLFW_KEY_SPACE)) togglePlay();
+    if (keys_.pressed(GLFW_KEY_Y)) traffic_->toggle(renderer_->settings());
   }
 
   void togglePlay() {
@@ -466,6 +470,7 @@ class Viewer {
       settingsChanged_ |= t.changed;
       if (t.chosen >= 0) focusOn(t.chosen);
     }
+    if (ImGui::CollapsingHeader("Traffic", ImGuiTreeNodeFlags_DefaultOpen)) settingsChanged_ |= traffic_->draw(rs);
 
     // The render settings, a section per group of the schema (render/settings_schema.h).
     const Scene& scene = session_->scene;
@@ -558,7 +563,8 @@ class Viewer {
       const auto t0 = Clock::now();
       // Idle (nothing moving, the view converged): sleep until an event instead of spinning.
       const bool idle = haveFrame && !focusPath_ && renderer_->converged() && renderedScale == 1.0 && !o_.redraw &&
-                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge && !timeline_->player().playing();
+                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge && !timeline_->player().playing() &&
+                        !traffic_->clock().playing();
       window_->pollEvents(idle ? 0.25 : 0.0);
       const double elapsed = std::max(0.0, std::chrono::duration<double>(Clock::now() - last).count());
       const double dt = std::min(elapsed, 0.1);
@@ -578,6 +584,7 @@ class Viewer {
       if (thenNow_.on && (in.move != glm::dvec3(0.0) || in.lookPixels != glm::dvec2(0.0)))
         leaveThenNow();  // the photograph fits only its own camera
       if (timeline_->step(elapsed, renderer_->settings())) settingsChanged_ = true;  // play, at wall-clock speed
+      if (traffic_->step(elapsed, renderer_->settings())) settingsChanged_ = true;
       if (focusPath_) {
         const double t = msSince(focusStart_) / 1000.0;
         nav_->setCamera(focusPath_->at(t));
@@ -707,6 +714,7 @@ class Viewer {
   PanelState panel_;
   SettingsPanel settingsPanel_;
   std::unique_ptr<TimelinePanel> timeline_;
+  std::unique_ptr<TrafficPanel> traffic_;
   ThenNowState thenNow_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;
