@@ -147,6 +147,7 @@
     const photos = JSON.parse(viewer.photos());
     buildPhotoList(viewer, photos);
     const timelineUi = buildTimeline(viewer);
+    const thenNowUi = buildThenNow(viewer, FS);
     const trafficUi = buildTraffic(viewer);
 
     // Photographs, nearest the start view first, a few requests in flight; each joins the
@@ -185,6 +186,7 @@
       if (e.code === 'KeyP' || e.code === 'PageUp') viewer.stepPhoto(-1);
       if (e.code === 'Space' && !e.repeat) timelineUi.toggle();
       if (e.code === 'KeyY' && !e.repeat) trafficUi.toggle();
+      if (e.code === 'KeyT' && !e.repeat) thenNowUi.toggle();
       if (e.code.startsWith('Arrow') || e.code === 'Space' || e.code.startsWith('Page')) e.preventDefault();
     });
     canvas.addEventListener('keyup', (e) => keys.delete(e.code));
@@ -228,6 +230,7 @@
       const f = viewer.focused();
       document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('focused', +li.dataset.index === f));
       timelineUi.update();
+      thenNowUi.update(s);
       trafficUi.update(s);
       shareLink(now);
       requestAnimationFrame(tick);
@@ -276,6 +279,7 @@
     hv.traffic = () => JSON.parse(viewer.traffic());
     hv.setTrafficTime = (t) => { viewer.setTrafficTime(t); trafficUi.update(JSON.parse(viewer.status()), true); };
     hv.playTraffic = (on) => trafficUi.play(on);
+    hv.thenNow = (on) => thenNowUi.set(on);
     hv.move = (right, forward, up, lookX, lookY, dt) => viewer.move(right, forward, up, lookX, lookY, false, dt);
     hv.focus = (i) => viewer.focusPhoto(i);
     // Median time of n frames rendered back to back at the current view (waiting for the GPU).
@@ -423,6 +427,45 @@
     play.addEventListener('click', ui.toggle);
     $('timeline-all').addEventListener('click', () => { viewer.clearTimeWindow(); ui.update(true); });
     ui.update(true);
+    return ui;
+  }
+
+  // Then and now (the desktop viewer's, docs/viewer.md; layout hv/viewer/then_now.h): the view
+  // at the chosen photograph's camera fitted to the canvas, the photograph left out of the render
+  // and laid over the canvas at its rectangle (photoRectInWindow), faded by the opacity or cut at
+  // the swipe line (the photograph left of it). Moving, T, the checkbox or another photograph end it.
+  function buildThenNow(viewer, FS) {
+    const img = $('then-now-image'), box = $('then-now'), opacity = $('then-now-opacity'), swipe = $('then-now-swipe');
+    let url = null;
+    const style = () => {
+      img.style.opacity = opacity.value;
+      img.style.clipPath = `inset(0 ${(100 * (1 - swipe.value)).toFixed(2)}% 0 0)`;
+    };
+    const ui = {
+      set(on) {
+        if (!on) { viewer.leaveThenNow(); ui.update(JSON.parse(viewer.status())); return ''; }
+        const r = JSON.parse(viewer.enterThenNow(viewer.focused(), canvas.width, canvas.height));
+        if (r.error) { box.checked = false; $('setting-error').textContent = r.error; return r.error; }
+        if (url) URL.revokeObjectURL(url);
+        url = URL.createObjectURL(new Blob([FS.readFile(r.image)]));
+        img.src = url;
+        img.style.left = r.lo[0] + 'px';
+        img.style.top = r.lo[1] + 'px';
+        img.style.width = (r.hi[0] - r.lo[0]) + 'px';
+        img.style.height = (r.hi[1] - r.lo[1]) + 'px';
+        style();
+        img.hidden = false;
+        box.checked = true;
+        return '';
+      },
+      toggle() { ui.set(viewer.thenNow() < 0); },
+      update(s) {
+        if (s.thenNow < 0 && !img.hidden) { img.hidden = true; box.checked = false; }
+      },
+    };
+    box.addEventListener('change', () => ui.set(box.checked));
+    opacity.addEventListener('input', style);
+    swipe.addEventListener('input', style);
     return ui;
   }
 

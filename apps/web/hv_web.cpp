@@ -15,6 +15,7 @@
 #include "hv/traffic/trajectories.h"
 #include "hv/util/log.h"
 #include "hv/viewer/navigation.h"
+#include "hv/viewer/then_now.h"
 #include "hv/viewer/timeline.h"
 #include "hv/viewer/traffic_clock.h"
 #include "hv/viewer/view_state.h"
@@ -186,7 +187,10 @@ class WebViewer {
     in.lookPixels = {lookX, lookY};
     in.fast = fast;
     in.dt = dt;
-    if (glm::length(in.move) > 0.0 || glm::length(in.lookPixels) > 0.0) focusPath_.reset();
+    if (glm::length(in.move) > 0.0 || glm::length(in.lookPixels) > 0.0) {
+      focusPath_.reset();
+      leaveThenNow();  // the photograph fits only its own camera
+    }
     if (nav_->update(in)) dirty_ = true;
   }
   void setSpeed(double s) { if (nav_) nav_->settings().speed = s; }
@@ -195,6 +199,7 @@ class WebViewer {
   // Focus + context on photograph i: travel to its camera, hold, step back.
   void focusPhoto(int i) {
     if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
+    leaveThenNow();
     focused_ = i;
     settings_.debug.photo = i;
     renderer_->settings().debug.photo = i;  // the weight and depth-map views show the chosen one
@@ -298,6 +303,7 @@ class WebViewer {
               {"trafficPlaying", clock_.playing()},
               {"vehicles", vehiclesOnRoad()},
               {"timelinePlaying", player_.playing()},
+              {"thenNow", thenNow_},
               {"errors", diag_.errors}};
     if (!error_.empty()) s["errors"].push_back(error_);
     if (renderer_) {
@@ -422,6 +428,32 @@ class WebViewer {
     }
     return encodeViewState(state);
   }
+  // Then and now (hv/viewer/then_now.h, as the desktop viewer's): the view at photograph i's
+  // camera fitted to the canvas, the photograph left out of the render (leave-one-out); the page
+  // lays the photograph over the canvas. Returns {"image" (its path in the file system), "lo",
+  // "hi" (its rectangle on the canvas, photoRectInWindow)} or {"error"}.
+  std::string enterThenNow(int i, int width, int height) {
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size())
+      return json{{"error", "then and now: choose a photograph first (the list, N or P)"}}.dump();
+    const Photo& p = scene_->photos[size_t(i)];
+    focusPath_.reset();
+    focused_ = i;
+    thenNow_ = i;
+    nav_->setMode(Mode::Fly);
+    nav_->setCamera(photoInWindow(p.camera, width, height));
+    renderer_->settings().blend.exclude = rendererSettings().blend.exclude;
+    dirty_ = true;
+    const PixelRect r = photoRectInWindow({p.camera.width, p.camera.height}, {width, height});
+    return json{{"image", p.imagePath}, {"lo", {r.lo.x, r.lo.y}}, {"hi", {r.hi.x, r.hi.y}}}.dump();
+  }
+  void leaveThenNow() {
+    if (thenNow_ < 0) return;
+    thenNow_ = -1;
+    if (renderer_) renderer_->settings().blend.exclude = rendererSettings().blend.exclude;
+    dirty_ = true;
+  }
+  int thenNow() const { return thenNow_; }
+
   // The current camera (cameras.json schema), e.g. to share a view.
   std::string camera() const {
     if (!nav_) return "{}";
@@ -463,7 +495,7 @@ class WebViewer {
     s.geometryThreads = 0;
     s.readBackColour = false;
     for (size_t i = 0; scene_ && i < scene_->photos.size(); ++i)
-      if (!arrivedPhoto_[i]) s.blend.exclude.push_back(scene_->photos[i].camera.id);
+      if (!arrivedPhoto_[i] || int(i) == thenNow_) s.blend.exclude.push_back(scene_->photos[i].camera.id);
     return s;
   }
   // The browser's defaults where they differ from the native ones: smaller slices and budgets
@@ -511,6 +543,7 @@ class WebViewer {
   double lastFrameMs_ = 0.0;
   double sceneMs_ = 0.0;
   bool dirty_ = true;
+  int thenNow_ = -1;  // the photograph of then and now, -1: off
   PhotoDates dates_;
   DateHistogram histogram_;
   TimelineAxis axis_;
@@ -568,7 +601,10 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("vehiclesOnRoad", &WebViewer::vehiclesOnRoad)
       .function("pose", &WebViewer::pose)
       .function("setPose", &WebViewer::setPose)
-      .function("shareQuery", &WebViewer::shareQuery);
+      .function("shareQuery", &WebViewer::shareQuery)
+      .function("enterThenNow", &WebViewer::enterThenNow)
+      .function("leaveThenNow", &WebViewer::leaveThenNow)
+      .function("thenNow", &WebViewer::thenNow);
 }
 
 }  // namespace hv::web

@@ -9,7 +9,8 @@
 // view and a layer switch change it too and converge without errors. Then the historian's tools:
 // the time window hides the photographs outside it (list and picture), plays; the screenshot button
 // downloads a PNG of the canvas; the traffic has vehicles on the road, plays and moves; the address
-// bar's shared link, opened in a second page, restores the camera, the window and the traffic's time.
+// bar's shared link, opened in a second page, restores the camera, the window and the traffic's time;
+// then and now lays the chosen photograph over the canvas until the camera moves.
 // Writes web-points.png and web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the
 // whole page. Prints "N passed, M failed"; exit code 1 on failure.
 import { chromium } from 'playwright-core';
@@ -278,6 +279,27 @@ try {
   check(restored.w.from === shared.w.from && restored.w.to === shared.w.to && Math.abs(restored.time - shared.time) < 1e-3,
         'the shared link restores the time window and the traffic\'s time');
   await page2.close();
+
+  // Then and now at a photograph: the photograph over the canvas at its rectangle (the canvas
+  // letterboxes it: its aspect ratio kept, one side the canvas's), left out of the render; a
+  // move ends it.
+  const tn = await page.evaluate(async () => {
+    hv.focus(0);
+    const err = hv.thenNow(true);
+    const img = document.getElementById('then-now-image');
+    await img.decode();
+    return { err, hidden: img.hidden, w: parseFloat(img.style.width), h: parseFloat(img.style.height),
+             nw: img.naturalWidth, nh: img.naturalHeight };
+  });
+  await page.waitForFunction(() => hv.status.thenNow === 0, null, { timeout: 60000, polling: 250 });
+  console.log(`then and now: the ${tn.nw}x${tn.nh} photograph at ${tn.w.toFixed(1)}x${tn.h.toFixed(1)} on the ${cw}x${ch} canvas`);
+  check(!tn.err && !tn.hidden && Math.abs(tn.w / tn.h - tn.nw / tn.nh) < 0.01 * tn.nw / tn.nh &&
+        (Math.abs(tn.w - cw) < 0.01 || Math.abs(tn.h - ch) < 0.01) && tn.w <= cw + 0.01 && tn.h <= ch + 0.01,
+        'then and now lays the photograph over the canvas, letterboxed');
+  await page.evaluate(() => hv.move(0, 1, 0, 0, 0, 0.1));
+  await page.waitForFunction(() => hv.status.thenNow === -1, null, { timeout: 60000, polling: 250 });
+  await page.waitForTimeout(300);
+  check(await page.evaluate(() => document.getElementById('then-now-image').hidden), 'moving ends then and now');
   check(pageErrors.length === 0, 'no page errors after the timeline, screenshot, traffic and link' +
         (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));
 } catch (e) {
