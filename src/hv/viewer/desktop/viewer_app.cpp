@@ -687,6 +687,7 @@ class Viewer {
       }
     }
     if (recording_) toggleRecording();
+    if (o_.trafficRate > 0.0) std::cout << "viewer: traffic at " << renderer_->settings().traffic.time << " s\n";
     if (o_.printFrameTimes) {
       std::cout << std::fixed << std::setprecision(1) << "frame times: " << allMs.size() << " rendered frame(s), median "
                 << median(allMs) << " ms";
