@@ -89,7 +89,7 @@ function(hv_define_modules)
   hv_module(scene PORTABLE DIRS scene DEPS camera math util PRIVATE_EXTERNAL eigen nanoflann)
   # Traffic: trajectories from a simulator, sampled in time and lifted onto the terrain.
   hv_module(traffic PORTABLE DIRS traffic DEPS math scene util)
-  hv_module(io PORTABLE DIRS io DEPS camera scene util EXTERNAL json)
+  hv_module(io PORTABLE DIRS io DEPS camera scene util PRIVATE_DEPS traffic EXTERNAL json)
   hv_module(ibr PORTABLE DIRS ibr DEPS camera image scene util PRIVATE_EXTERNAL nanoflann stb)
   hv_module(gpu PORTABLE DIRS gpu DEPS image util EXTERNAL gles glm EXTRA_SOURCES ${HV_SHADER_CPP})
   # The renderer without GL: settings and their schema, the frame, the frame builder, the backend

@@ -13,6 +13,7 @@
 # gives the untextured picture, one holding all the full one, each against `render --from --to`;
 # and then and now at a photograph's camera: at opacity 1 the window is the photograph itself, with
 # a swipe line at the middle its left half and, right of the line, the render without it.
+# Then the traffic played (--traffic-play, docs/traffic.md): its clock moves from --time.
 # Exits 77 (skipped) when xvfb-run or the viewer is not available, saying which.
 set -uo pipefail
 
@@ -305,4 +306,21 @@ if command -v xdotool >/dev/null; then
   echo "three 12 ms taps of F2: three numbered screenshots ($frame_ms)"
 else
   echo "(key taps not tested: xdotool is not installed; tools/install-deps.sh installs it)"
+fi
+
+# The traffic played (hv/viewer/traffic_clock.h): from --time 5 at 10 simulated seconds a second,
+# a few frames later the clock has moved on (and stays inside the SUMO run's 0 .. 59.5 s, looping).
+if grep -q '"traffic"' "$city/scene.json"; then
+  xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
+    --size "$size" --frames 8 --hide-panel --time 5 --traffic-play 10 >"$DIR/view-traffic.out" 2>&1
+  rc=$?
+  t=$(grep -o "viewer: traffic at [0-9.e+-]* s" "$DIR/view-traffic.out" | awk '{print $4}')
+  if ((rc != 0)) || [[ -z $t ]] || ! python3 -c 'import sys; t = float(sys.argv[1]); sys.exit(0 if 5 < t <= 59.5 else 1)' "$t"; then
+    echo "FAIL: histoview view --time 5 --traffic-play 10 exited with $rc, traffic at '${t}' s (expected past 5 s); output:"
+    tail -20 "$DIR/view-traffic.out"
+    exit 1
+  fi
+  echo "traffic played from 5 s at 10x for 8 frames: at $t s"
+else
+  echo "(traffic play not tested: the demo city has no traffic, SUMO is not installed)"
 fi

@@ -2,10 +2,14 @@
 // arrives into the WebAssembly module's in-memory file system, and drives hv::render::Renderer
 // (apps/web/hv_web.cpp) from requestAnimationFrame. No framework. URL parameters:
 //   camera=ID  start at this view (views.json) or photograph; default: an overview
+//   pose=x,y,z,qw,qx,qy,qz,fov  start at this camera pose (the shared link's, hv/viewer/view_state.h)
 //   w=, h=     canvas size (default 960x540)
 //   NAME=TEXT  any render setting, as on the command line (`histoview settings`), e.g. k=4,
 //              depth-size=2048 (depth= too), points=0 (start with the point cloud hidden)
 //   log=debug  the renderer's log level in the console (debug, info, warn, error, off)
+// The address bar keeps the current view (history.replaceState): the pose and the render settings
+// changed from the page's defaults (the time window `from`/`to`, the traffic's `time` among them),
+// so a copied link opens the same view.
 // For scripts and tests, window.hv exposes the state (loaded, progress, errors) and a few calls.
 'use strict';
 
@@ -95,6 +99,7 @@
     const manifest = JSON.parse(new TextDecoder().decode(manifestBytes));
     const sceneFiles = manifest.meshes.map((m) => m.path).concat([manifest.cameras || 'cameras.json']);
     if (manifest.points) sceneFiles.push(manifest.points.path);
+    if (manifest.traffic) sceneFiles.push(...[manifest.traffic.csv, manifest.traffic.models].filter(Boolean));
     const expected = manifest.meshes.reduce((n, m) => n + 12 * (m.vertices + m.triangles) + (m.tags ? 4 * m.triangles : 0), 0) +
                      (manifest.points ? manifest.points.bytes || 0 : 0);
     let received = 0;
@@ -114,7 +119,7 @@
     // construction apply too).
     for (const [name, value] of params) {
       const setting = name === 'depth' ? 'depth-size' : name;
-      if (!['camera', 'w', 'h', 'log'].includes(name)) {
+      if (!['camera', 'pose', 'w', 'h', 'log'].includes(name)) {
         const err = viewer.setSetting(setting, value);
         if (err) showError('URL parameter ' + name + '=' + value + ': ' + err);
       }
@@ -126,8 +131,11 @@
     console.log(`histoview: scene read in ${st.sceneMs.toFixed(0)} ms` +
                 (st.points ? ` (${st.points} points in ${st.chunks} chunks)` : ''));
 
-    const camera = params.get('camera');
-    if (camera) {
+    const camera = params.get('camera'), pose = params.get('pose');
+    if (pose) {
+      const err = viewer.setPose(pose, W, H);
+      if (err) { showError('pose=' + pose + ': ' + err); viewer.overview(W, H); }
+    } else if (camera) {
       const err = viewer.setViewFromFile(haveViews ? ROOT + 'views.json' : ROOT + 'cameras.json', camera, W, H);
       if (err) { showError('camera=' + camera + ': ' + err); viewer.overview(W, H); }
     } else {
@@ -138,6 +146,9 @@
 
     const photos = JSON.parse(viewer.photos());
     buildPhotoList(viewer, photos);
+    const timelineUi = buildTimeline(viewer);
+    const thenNowUi = buildThenNow(viewer, FS);
+    const trafficUi = buildTraffic(viewer);
 
     // Photographs, nearest the start view first, a few requests in flight; each joins the
     // renderer's selection as soon as its bytes (and its mask's) are in the file system.
@@ -149,11 +160,12 @@
         const i = order[next++];
         const p = photos[i];
         try {
-          put(rel(p.image), await fetchBytes(rel(p.image)));
+          const bytes = await fetchBytes(rel(p.image));
+          put(rel(p.image), bytes);
           if (p.mask) put(rel(p.mask), await fetchBytes(rel(p.mask)));
           viewer.photoArrived(i);
           const li = document.querySelector('#photos li[data-index="' + i + '"]');
-          if (li) li.classList.remove('pending');
+          if (li) { li.classList.remove('pending'); addThumbnail(li, bytes, p.id); }
         } catch (e) {
           showError('photograph ' + p.id + ': ' + e.message);
         }
@@ -172,6 +184,9 @@
       if (!e.repeat) tapped.add(e.code);
       if (e.code === 'KeyN' || e.code === 'PageDown') viewer.stepPhoto(1);
       if (e.code === 'KeyP' || e.code === 'PageUp') viewer.stepPhoto(-1);
+      if (e.code === 'Space' && !e.repeat) timelineUi.toggle();
+      if (e.code === 'KeyY' && !e.repeat) trafficUi.toggle();
+      if (e.code === 'KeyT' && !e.repeat) thenNowUi.toggle();
       if (e.code.startsWith('Arrow') || e.code === 'Space' || e.code.startsWith('Page')) e.preventDefault();
     });
     canvas.addEventListener('keyup', (e) => keys.delete(e.code));
@@ -214,11 +229,57 @@
         (s.converged ? 'converged' : 'refining…');
       const f = viewer.focused();
       document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('focused', +li.dataset.index === f));
+      timelineUi.update();
+      thenNowUi.update(s);
+      trafficUi.update(s);
+      shareLink(now);
       requestAnimationFrame(tick);
     }
     requestAnimationFrame(tick);
 
+    // The address bar holds the current view (a shared link restores it), at most twice a second.
+    let lastShare = -1e9, shared = '';
+    function shareLink(now) {
+      if (now - lastShare < 500) return;
+      lastShare = now;
+      const keep = new URLSearchParams();
+      for (const name of ['w', 'h', 'log']) if (params.has(name)) keep.set(name, params.get(name));
+      const extra = keep.toString();
+      const query = viewer.shareQuery() + (extra ? '&' + extra : '');
+      if (query === shared) return;
+      shared = query;
+      history.replaceState(null, '', location.pathname + '?' + query);
+    }
+    $('copy-link').addEventListener('click', () => {
+      lastShare = -1e9;
+      shareLink(performance.now());
+      if (navigator.clipboard) navigator.clipboard.writeText(location.href).catch(() => {});
+    });
+    // The canvas as a PNG (its drawing buffer is preserved: the converged frame is still there).
+    const screenshotBlob = () => new Promise((resolve, reject) =>
+      canvas.toBlob((b) => b ? resolve(b) : reject(new Error('screenshot: the canvas gave no PNG')), 'image/png'));
+    let shots = 0;
+    $('screenshot').addEventListener('click', async () => {
+      const url = URL.createObjectURL(await screenshotBlob());
+      const a = document.createElement('a');
+      a.href = url;
+      a.download = `histoview-screenshot-${String(++shots).padStart(3, '0')}.png`;
+      document.body.appendChild(a);
+      a.click();
+      a.remove();
+      setTimeout(() => URL.revokeObjectURL(url), 10000);
+    });
+
     // For scripts and tests.
+    hv.screenshot = async () => new Uint8Array(await (await screenshotBlob()).arrayBuffer());
+    hv.pose = () => viewer.pose();
+    hv.shareQuery = () => viewer.shareQuery();
+    hv.setTimeWindow = (a, b) => { const err = viewer.setTimeWindow(a, b); timelineUi.update(true); return err; };
+    hv.timeWindow = () => JSON.parse(viewer.timeWindow());
+    hv.traffic = () => JSON.parse(viewer.traffic());
+    hv.setTrafficTime = (t) => { viewer.setTrafficTime(t); trafficUi.update(JSON.parse(viewer.status()), true); };
+    hv.playTraffic = (on) => trafficUi.play(on);
+    hv.thenNow = (on) => thenNowUi.set(on);
     hv.move = (right, forward, up, lookX, lookY, dt) => viewer.move(right, forward, up, lookX, lookY, false, dt);
     hv.focus = (i) => viewer.focusPhoto(i);
     // Median time of n frames rendered back to back at the current view (waiting for the GPU).
@@ -288,6 +349,158 @@
       else label.append(s.name + ' ', input);
       section.appendChild(label);
     }
+  }
+
+  // A photograph's thumbnail in the list, made by the browser's own decoder from the bytes just
+  // fetched (no second download, nothing exported for it), 96 pixels wide.
+  const THUMB_WIDTH = 96;
+  async function addThumbnail(li, bytes, id) {
+    if (typeof createImageBitmap !== 'function') return;
+    try {
+      const bitmap = await createImageBitmap(new Blob([bytes]));
+      const c = document.createElement('canvas');
+      c.width = THUMB_WIDTH;
+      c.height = Math.max(1, Math.round(THUMB_WIDTH * bitmap.height / bitmap.width));
+      c.getContext('2d').drawImage(bitmap, 0, 0, c.width, c.height);
+      bitmap.close();
+      c.title = id;
+      li.appendChild(c);
+    } catch (e) {
+      console.warn('histoview: thumbnail of ' + id + ': ' + e.message);
+    }
+  }
+
+  // The Timeline (the desktop viewer's, docs/viewer.md; the arithmetic is hv/viewer/timeline.h in
+  // the WebAssembly module): the dates' histogram, the window's two ends as sliders (positions
+  // along the axis), play at years/s, loop, all. The list hides the photographs outside the window
+  // (undated ones pass any window).
+  const SLIDER_STEPS = 1000;
+  function buildTimeline(viewer) {
+    const t = JSON.parse(viewer.timeline());
+    const box = $('timeline-box');
+    const ui = { toggle() {}, update() {} };
+    if (!t.dated) return ui;
+    box.hidden = false;
+    const a = $('window-a'), b = $('window-b'), play = $('timeline-play'), hist = $('histogram');
+    let last = '';
+    function draw(w) {
+      const g = hist.getContext('2d'), n = t.counts.length, max = Math.max(1, ...t.counts);
+      g.clearRect(0, 0, hist.width, hist.height);
+      t.counts.forEach((c, i) => {
+        const x0 = hist.width * i / n, x1 = hist.width * (i + 1) / n;
+        const inside = (i + 1) / n > w.a && i / n < w.b;  // the bar meets the window (positions along the axis)
+        g.fillStyle = inside ? '#fc6' : '#665';
+        const h = (hist.height - 2) * c / max;
+        g.fillRect(x0 + 0.5, hist.height - h, Math.max(1, x1 - x0 - 1), h);
+      });
+      g.fillStyle = '#fc63';
+      g.fillRect(hist.width * w.a, 0, Math.max(1, hist.width * (w.b - w.a)), hist.height);
+    }
+    ui.update = (force) => {
+      const text = viewer.timeWindow();
+      if (text === last && !force) return;
+      last = text;
+      const w = JSON.parse(text);
+      a.value = Math.round(w.a * SLIDER_STEPS);
+      b.value = Math.round(w.b * SLIDER_STEPS);
+      $('window-text').textContent = (w.open ? 'all photographs: ' : '') + `${w.from} .. ${w.to}: ${w.count} of ${t.dated} ` +
+        'dated photographs' + (t.undated ? ` (${t.undated} undated, always shown)` : '');
+      play.textContent = w.playing ? 'pause (Space)' : 'play (Space)';
+      document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('outside', !w.inWindow[+li.dataset.index]));
+      for (const name of ['from', 'to']) { const input = $(name); if (input) input.value = w.open ? '' : w[name]; }
+      draw(w);
+    };
+    const set = (moved) => {
+      let pa = a.value / SLIDER_STEPS, pb = b.value / SLIDER_STEPS;
+      if (pa > pb) { if (moved === a) pb = pa; else pa = pb; }
+      const err = viewer.setTimeWindow(pa, pb);
+      if (err) showError(err);
+      ui.update(true);
+    };
+    a.addEventListener('input', () => set(a));
+    b.addEventListener('input', () => set(b));
+    ui.toggle = () => {
+      if (JSON.parse(viewer.timeWindow()).playing) viewer.stopTimeline();
+      else viewer.playTimeline(parseFloat($('timeline-speed').value) || 5, $('timeline-loop').checked);
+      ui.update(true);
+    };
+    play.addEventListener('click', ui.toggle);
+    $('timeline-all').addEventListener('click', () => { viewer.clearTimeWindow(); ui.update(true); });
+    ui.update(true);
+    return ui;
+  }
+
+  // Then and now (the desktop viewer's, docs/viewer.md; layout hv/viewer/then_now.h): the view
+  // at the chosen photograph's camera fitted to the canvas, the photograph left out of the render
+  // and laid over the canvas at its rectangle (photoRectInWindow), faded by the opacity or cut at
+  // the swipe line (the photograph left of it). Moving, T, the checkbox or another photograph end it.
+  function buildThenNow(viewer, FS) {
+    const img = $('then-now-image'), box = $('then-now'), opacity = $('then-now-opacity'), swipe = $('then-now-swipe');
+    let url = null;
+    const style = () => {
+      img.style.opacity = opacity.value;
+      img.style.clipPath = `inset(0 ${(100 * (1 - swipe.value)).toFixed(2)}% 0 0)`;
+    };
+    const ui = {
+      set(on) {
+        if (!on) { viewer.leaveThenNow(); ui.update(JSON.parse(viewer.status())); return ''; }
+        const r = JSON.parse(viewer.enterThenNow(viewer.focused(), canvas.width, canvas.height));
+        if (r.error) { box.checked = false; $('setting-error').textContent = r.error; return r.error; }
+        if (url) URL.revokeObjectURL(url);
+        url = URL.createObjectURL(new Blob([FS.readFile(r.image)]));
+        img.src = url;
+        img.style.left = r.lo[0] + 'px';
+        img.style.top = r.lo[1] + 'px';
+        img.style.width = (r.hi[0] - r.lo[0]) + 'px';
+        img.style.height = (r.hi[1] - r.lo[1]) + 'px';
+        style();
+        img.hidden = false;
+        box.checked = true;
+        return '';
+      },
+      toggle() { ui.set(viewer.thenNow() < 0); },
+      update(s) {
+        if (s.thenNow < 0 && !img.hidden) { img.hidden = true; box.checked = false; }
+      },
+    };
+    box.addEventListener('change', () => ui.set(box.checked));
+    opacity.addEventListener('input', style);
+    swipe.addEventListener('input', style);
+    return ui;
+  }
+
+  // The Traffic (docs/traffic.md, "Playing the traffic"): play/pause (Y) at a speed, loop, and the
+  // simulation's time as a slider over the trajectories' span (hv/viewer/traffic_clock.h).
+  function buildTraffic(viewer) {
+    const t = JSON.parse(viewer.traffic());
+    const ui = { toggle() {}, update() {}, play() {} };
+    if (!t.vehicles) return ui;
+    $('traffic-box').hidden = false;
+    const slider = $('traffic-time'), button = $('traffic-play');
+    slider.min = t.begin;
+    slider.max = t.end;
+    let lastTime = null, lastPlaying = null;
+    ui.play = (on) => {
+      viewer.playTraffic(on, parseFloat($('traffic-rate').value) || 1, $('traffic-loop').checked);
+      ui.update(JSON.parse(viewer.status()), true);
+    };
+    ui.toggle = () => ui.play(!JSON.parse(viewer.status()).trafficPlaying);
+    ui.update = (s, force) => {
+      if (!force && s.time === lastTime && s.trafficPlaying === lastPlaying) return;
+      lastTime = s.time;
+      lastPlaying = s.trafficPlaying;
+      slider.value = s.time;
+      button.textContent = s.trafficPlaying ? 'pause (Y)' : 'play (Y)';
+      $('traffic-text').textContent = `${s.vehicles} of ${t.vehicles} vehicles on the road at ${s.time.toFixed(1)} s ` +
+        `(${t.begin.toFixed(1)} .. ${t.end.toFixed(1)} s)`;
+      const input = $('time');
+      if (input && document.activeElement !== input) input.value = String(s.time);
+    };
+    slider.addEventListener('input', () => { viewer.setTrafficTime(parseFloat(slider.value)); ui.update(JSON.parse(viewer.status()), true); });
+    button.addEventListener('click', ui.toggle);
+    $('traffic-rate').addEventListener('change', () => { if (JSON.parse(viewer.status()).trafficPlaying) ui.play(true); });
+    ui.update(JSON.parse(viewer.status()), true);
+    return ui;
   }
 
   function buildPhotoList(viewer, photos) {

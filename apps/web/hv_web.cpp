@@ -12,8 +12,13 @@
 #include "hv/io/web_scene.h"
 #include "hv/render/renderer.h"
 #include "hv/render/settings_schema.h"
+#include "hv/traffic/trajectories.h"
 #include "hv/util/log.h"
 #include "hv/viewer/navigation.h"
+#include "hv/viewer/then_now.h"
+#include "hv/viewer/timeline.h"
+#include "hv/viewer/traffic_clock.h"
+#include "hv/viewer/view_state.h"
 
 #include <emscripten.h>
 #include <emscripten/bind.h>
@@ -88,6 +93,15 @@ class WebViewer {
       std::vector<glm::dvec3> centres;
       for (const auto& p : scene_->photos) centres.push_back(p.camera.center);
       order_ = streetOrder(centres);
+      std::vector<std::string> dates;
+      for (const auto& p : scene_->photos) dates.push_back(p.date);
+      dates_ = readPhotoDates(dates);
+      histogram_ = dateHistogram(dates_);
+      const DateInterval axisDays = histogram_.days();
+      axis_ = {axisDays.first, axisDays.last};
+      if (scene_->traffic && !scene_->traffic->vehicles.empty())
+        clock_ = TrafficClock(scene_->traffic->tBegin, scene_->traffic->tEnd);
+      clock_.seek(settings_.traffic.time);
       std::string errors;
       for (const auto& e : diag.errors) errors += e + "\n";
       for (const auto& w : diag.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -173,7 +187,10 @@ class WebViewer {
     in.lookPixels = {lookX, lookY};
     in.fast = fast;
     in.dt = dt;
-    if (glm::length(in.move) > 0.0 || glm::length(in.lookPixels) > 0.0) focusPath_.reset();
+    if (glm::length(in.move) > 0.0 || glm::length(in.lookPixels) > 0.0) {
+      focusPath_.reset();
+      leaveThenNow();  // the photograph fits only its own camera
+    }
     if (nav_->update(in)) dirty_ = true;
   }
   void setSpeed(double s) { if (nav_) nav_->settings().speed = s; }
@@ -182,6 +199,7 @@ class WebViewer {
   // Focus + context on photograph i: travel to its camera, hold, step back.
   void focusPhoto(int i) {
     if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return;
+    leaveThenNow();
     focused_ = i;
     settings_.debug.photo = i;
     renderer_->settings().debug.photo = i;  // the weight and depth-map views show the chosen one
@@ -210,6 +228,7 @@ class WebViewer {
     try {
       render::setFromText(settings_, name, text);
       pointsSet_ |= name == "points";
+      if (name == "time") clock_.seek(settings_.traffic.time);
       if (!renderer_) return "";
       const render::Setting& s = render::setting(name);
       if (s.apply == render::SettingApply::Live) {
@@ -236,6 +255,7 @@ class WebViewer {
   bool frame(int width, int height, bool force, bool timed) {
     if (!renderer_ || context_ <= 0) return false;
     emscripten_webgl_make_context_current(context_);
+    advancePlayers();
     if (focusPath_) {
       const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - focusStart_).count();
       Camera c = focusPath_->at(std::min(t, focusPath_->duration()));
@@ -279,6 +299,11 @@ class WebViewer {
               {"sceneMs", sceneMs_},
               {"points", scene_ ? scene_->points.size() : 0},
               {"chunks", scene_ ? scene_->points.chunks.size() : 0},
+              {"time", settings_.traffic.time},
+              {"trafficPlaying", clock_.playing()},
+              {"vehicles", vehiclesOnRoad()},
+              {"timelinePlaying", player_.playing()},
+              {"thenNow", thenNow_},
               {"errors", diag_.errors}};
     if (!error_.empty()) s["errors"].push_back(error_);
     if (renderer_) {
@@ -291,6 +316,144 @@ class WebViewer {
     }
     return s.dump();
   }
+  // The timeline (hv/viewer/timeline.h, as the desktop viewer's): {"first", "last" (the axis's days),
+  // "firstDate", "lastDate", "firstYear", "yearsPerBin", "counts" (photographs per bar), "dated",
+  // "undated"}.
+  std::string timeline() const {
+    json t = {{"first", axis_.first},
+              {"last", axis_.last},
+              {"firstDate", formatDay(axis_.first)},
+              {"lastDate", formatDay(axis_.last)},
+              {"firstYear", histogram_.firstYear},
+              {"yearsPerBin", histogram_.yearsPerBin},
+              {"counts", histogram_.counts},
+              {"dated", dates_.dated.size()},
+              {"undated", dates_.undated.size()}};
+    return t.dump();
+  }
+  // The time window at two slider positions (fractions of the axis, 0 <= a <= b <= 1), as the
+  // desktop viewer's --timeline; writes the settings `from`/`to`. Returns "" or the error.
+  std::string setTimeWindow(double a, double b) {
+    if (!(a >= 0.0 && a <= b && b <= 1.0))
+      return "time window: expected positions 0 <= from <= to <= 1, got " + std::to_string(a) + ", " +
+             std::to_string(b);
+    setWindow(DateInterval{axis_.dayAt(a), axis_.dayAt(b)});
+    return "";
+  }
+  // No window: every photograph (the settings from/to empty).
+  void clearTimeWindow() {
+    player_.stop();
+    setWindow(std::nullopt);
+  }
+  // {"open", "a", "b" (slider positions), "from", "to" (days as dates), "count" (dated photographs
+  // in it), "inWindow": [per photograph: dated and overlapping it, or undated], "playing"}.
+  std::string timeWindow() const {
+    const DateInterval w = windowOnAxis(settings_.blend.window, axis_);
+    json inWindow = json::array();
+    for (const auto& d : dates_.when) inWindow.push_back(!d || overlaps(*d, w));
+    return json{{"open", !settings_.blend.window.has_value()},
+                {"a", axis_.positionOf(w.first)},
+                {"b", axis_.positionOf(w.last)},
+                {"from", formatDay(w.first)},
+                {"to", formatDay(w.last)},
+                {"count", countInWindow(dates_, w)},
+                {"inWindow", inWindow},
+                {"playing", player_.playing()}}
+        .dump();
+  }
+  // Play walks the window forward at `yearsPerSecond` (TimelinePlayer: wall-clock time).
+  void playTimeline(double yearsPerSecond, bool loop) {
+    if (dates_.dated.empty()) return;
+    play_.yearsPerSecond = yearsPerSecond > 0.0 ? yearsPerSecond : play_.yearsPerSecond;
+    play_.loop = loop;
+    DateInterval w = windowOnAxis(settings_.blend.window, axis_);
+    player_.start(w, axis_, std::max<std::int64_t>(1, histogram_.binDays(0).last - histogram_.binDays(0).first + 1));
+    setWindow(w);
+  }
+  void stopTimeline() { player_.stop(); }
+
+  // The traffic (scene.json "traffic", exported as traffic.csv): {"vehicles", "begin", "end"};
+  // vehicles 0 when the scene has none.
+  std::string traffic() const {
+    const std::size_t n = scene_ && scene_->traffic ? scene_->traffic->vehicles.size() : 0;
+    return json{{"vehicles", n}, {"begin", clock_.begin()}, {"end", clock_.end()}}.dump();
+  }
+  // The traffic's clock (TrafficClock): the setting `time`, clamped to the trajectories' span.
+  void setTrafficTime(double t) {
+    clock_.seek(t);
+    writeTrafficTime();
+  }
+  void playTraffic(bool on, double rate, bool loop) {
+    if (rate > 0.0) trafficPlay_.rate = rate;
+    trafficPlay_.loop = loop;
+    if (on && !clock_.playing()) {
+      clock_.seek(settings_.traffic.time);  // the settings panel may have moved it
+      clock_.play();
+    } else if (!on) {
+      clock_.pause();
+    }
+  }
+  // Vehicles on the road (between their first and last sample) at the current time.
+  int vehiclesOnRoad() const {
+    int n = 0;
+    if (scene_ && scene_->traffic)
+      for (const Trajectory& v : scene_->traffic->vehicles)
+        n += sampleTrajectory(v, settings_.traffic.time).has_value();
+    return n;
+  }
+
+  // The camera's pose as a link gives it (hv/viewer/view_state.h: "x,y,z,qw,qx,qy,qz,fov").
+  std::string pose() const { return nav_ ? formatPose(poseOf(nav_->camera())) : std::string(); }
+  std::string setPose(const std::string& text, int width, int height) {
+    if (!nav_) return "no scene";
+    try {
+      nav_->setCamera(cameraAt(parsePose(text, "pose"), width, height, "web"));
+      focusPath_.reset();
+      dirty_ = true;
+      return "";
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  // The query of a link to this view: the pose, then every render setting that differs from
+  // the page's defaults (the time window `from`/`to` and the traffic's `time` among them).
+  std::string shareQuery() const {
+    ViewState state;
+    if (nav_) state.pose = poseOf(nav_->camera());
+    render::RenderSettings defaults = webDefaults();
+    defaults.points.enabled = hasPoints();
+    for (const render::Setting& st : render::settingsSchema()) {
+      const std::string now = render::toText(settings_, st.name);
+      if (now != render::toText(defaults, st.name)) state.params.emplace_back(st.name, now);
+    }
+    return encodeViewState(state);
+  }
+  // Then and now (hv/viewer/then_now.h, as the desktop viewer's): the view at photograph i's
+  // camera fitted to the canvas, the photograph left out of the render (leave-one-out); the page
+  // lays the photograph over the canvas. Returns {"image" (its path in the file system), "lo",
+  // "hi" (its rectangle on the canvas, photoRectInWindow)} or {"error"}.
+  std::string enterThenNow(int i, int width, int height) {
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size())
+      return json{{"error", "then and now: choose a photograph first (the list, N or P)"}}.dump();
+    const Photo& p = scene_->photos[size_t(i)];
+    focusPath_.reset();
+    focused_ = i;
+    thenNow_ = i;
+    nav_->setMode(Mode::Fly);
+    nav_->setCamera(photoInWindow(p.camera, width, height));
+    renderer_->settings().blend.exclude = rendererSettings().blend.exclude;
+    dirty_ = true;
+    const PixelRect r = photoRectInWindow({p.camera.width, p.camera.height}, {width, height});
+    return json{{"image", p.imagePath}, {"lo", {r.lo.x, r.lo.y}}, {"hi", {r.hi.x, r.hi.y}}}.dump();
+  }
+  void leaveThenNow() {
+    if (thenNow_ < 0) return;
+    thenNow_ = -1;
+    if (renderer_) renderer_->settings().blend.exclude = rendererSettings().blend.exclude;
+    dirty_ = true;
+  }
+  int thenNow() const { return thenNow_; }
+
   // The current camera (cameras.json schema), e.g. to share a view.
   std::string camera() const {
     if (!nav_) return "{}";
@@ -300,6 +463,30 @@ class WebViewer {
   }
 
  private:
+  // The time window into the settings and the renderer's (live: BlendSettings::window).
+  void setWindow(const std::optional<DateInterval>& window) {
+    settings_.blend.window = window;
+    if (renderer_) renderer_->settings().blend.window = window;
+    dirty_ = true;
+  }
+  void writeTrafficTime() {
+    settings_.traffic.time = clock_.time();
+    if (renderer_) renderer_->settings().traffic.time = clock_.time();
+    dirty_ = true;
+  }
+  // Play: the timeline's window and the traffic's clock advance with the wall-clock time since
+  // the previous frame (at most a second: a hidden tab gets no frames).
+  void advancePlayers() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::min(1.0, std::chrono::duration<double>(now - lastTick_).count());
+    lastTick_ = now;
+    if (player_.playing()) {
+      DateInterval w = windowOnAxis(settings_.blend.window, axis_);
+      if (player_.step(w, axis_, seconds, play_)) setWindow(w);
+    }
+    if (clock_.step(seconds, trafficPlay_)) writeTrafficTime();
+  }
+
   // settings_ as the renderer takes them here: no threads in the browser, the colour presented
   // from the GPU, and the photographs that have not arrived left out.
   render::RenderSettings rendererSettings() const {
@@ -308,7 +495,7 @@ class WebViewer {
     s.geometryThreads = 0;
     s.readBackColour = false;
     for (size_t i = 0; scene_ && i < scene_->photos.size(); ++i)
-      if (!arrivedPhoto_[i]) s.blend.exclude.push_back(scene_->photos[i].camera.id);
+      if (!arrivedPhoto_[i] || int(i) == thenNow_) s.blend.exclude.push_back(scene_->photos[i].camera.id);
     return s;
   }
   // The browser's defaults where they differ from the native ones: smaller slices and budgets
@@ -356,6 +543,15 @@ class WebViewer {
   double lastFrameMs_ = 0.0;
   double sceneMs_ = 0.0;
   bool dirty_ = true;
+  int thenNow_ = -1;  // the photograph of then and now, -1: off
+  PhotoDates dates_;
+  DateHistogram histogram_;
+  TimelineAxis axis_;
+  PlaySettings play_;
+  TimelinePlayer player_;
+  TrafficClock clock_;
+  TrafficPlaySettings trafficPlay_;
+  std::chrono::steady_clock::time_point lastTick_ = std::chrono::steady_clock::now();
 };
 
 // "debug", "info" (the default), "warn", "error" or "off": what hv::log prints to the console.
@@ -392,7 +588,23 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("settingsSchema", &WebViewer::settingsSchema)
       .function("frame", &WebViewer::frame)
       .function("status", &WebViewer::status)
-      .function("camera", &WebViewer::camera);
+      .function("camera", &WebViewer::camera)
+      .function("timeline", &WebViewer::timeline)
+      .function("setTimeWindow", &WebViewer::setTimeWindow)
+      .function("clearTimeWindow", &WebViewer::clearTimeWindow)
+      .function("timeWindow", &WebViewer::timeWindow)
+      .function("playTimeline", &WebViewer::playTimeline)
+      .function("stopTimeline", &WebViewer::stopTimeline)
+      .function("traffic", &WebViewer::traffic)
+      .function("setTrafficTime", &WebViewer::setTrafficTime)
+      .function("playTraffic", &WebViewer::playTraffic)
+      .function("vehiclesOnRoad", &WebViewer::vehiclesOnRoad)
+      .function("pose", &WebViewer::pose)
+      .function("setPose", &WebViewer::setPose)
+      .function("shareQuery", &WebViewer::shareQuery)
+      .function("enterThenNow", &WebViewer::enterThenNow)
+      .function("leaveThenNow", &WebViewer::leaveThenNow)
+      .function("thenNow", &WebViewer::thenNow);
 }
 
 }  // namespace hv::web

@@ -6,7 +6,11 @@
 // canvas, with the demo's lidar points drawn, with reference-points.png (native `render --points`;
 // PSNR over RGB), switches the points off and compares with reference.png (native `render`), checks
 // the point controls, moves the camera and checks the picture changes, then that the panel's debug
-// view and a layer switch change it too and converge without errors.
+// view and a layer switch change it too and converge without errors. Then the historian's tools:
+// the time window hides the photographs outside it (list and picture), plays; the screenshot button
+// downloads a PNG of the canvas; the traffic has vehicles on the road, plays and moves; the address
+// bar's shared link, opened in a second page, restores the camera, the window and the traffic's time;
+// then and now lays the chosen photograph over the canvas until the camera moves.
 // Writes web-points.png and web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the
 // whole page. Prints "N passed, M failed"; exit code 1 on failure.
 import { chromium } from 'playwright-core';
@@ -193,6 +197,111 @@ try {
   check(await changedSince(picture) === 0, 'terrain on again: the same picture');
   const errorsAfter = await page.evaluate(() => hv.errors);
   check(errorsAfter.length === 0 && pageErrors.length === 0, 'no page errors after the switches');
+  // The time window (docs/web.md, "The page"): the same arithmetic as the desktop timeline.
+  await setControl('points', true);
+  await changedSince(picture);
+  const photoCount = state.status.photos;
+  const all = await page.evaluate(() => hv.timeWindow());
+  check(all.open && all.inWindow.length === photoCount && all.inWindow.every((x) => x),
+        'no time window: every photograph in it');
+  const firstPicture = await canvasUrl();
+  await page.evaluate(() => { window.framesAtChange = hv.status.frames; });
+  const narrow = await page.evaluate(() => { const err = hv.setTimeWindow(0, 0.02); return { err, w: hv.timeWindow() }; });
+  const outside = await page.evaluate(() => document.querySelectorAll('#photos li.outside').length);
+  console.log(`time window ${narrow.w.from} .. ${narrow.w.to}: ${narrow.w.count} dated photographs in it, ${outside} hidden in the list`);
+  check(!narrow.err && !narrow.w.open && narrow.w.count < photoCount, 'a narrow time window holds fewer photographs');
+  check(outside === narrow.w.inWindow.filter((x) => !x).length && outside > 0,
+        'the list hides the photographs outside the window');
+  const windowChange = await changedSince(firstPicture);
+  console.log(`narrow window: ${(100 * windowChange).toFixed(1)} % of the pixels changed`);
+  check(windowChange > 0.02, 'the time window changes the picture (photographs outside it no longer texture it)');
+  const beforePlay = await page.evaluate(() => hv.timeWindow());
+  await page.click('#timeline-play');
+  await page.waitForTimeout(1500);
+  await page.click('#timeline-play');
+  const played = await page.evaluate(() => hv.timeWindow());
+  console.log(`timeline played 1.5 s: ${beforePlay.from} .. ${beforePlay.to} -> ${played.from} .. ${played.to}`);
+  check(played.from > beforePlay.from && !played.playing, 'play walks the window forward, pause stops it');
+  await page.click('#timeline-all');
+  check((await page.evaluate(() => hv.timeWindow())).open, '"all" clears the window');
+  await page.evaluate(() => hv.setTimeWindow(0, 0.5));
+
+  // The screenshot button: a PNG of the canvas's size, downloaded.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#screenshot')]);
+  const shot = fs.readFileSync(await download.path());
+  const png = shot.subarray(0, 8).equals(Buffer.from([0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]));
+  const [cw, ch] = await page.evaluate(() => [document.getElementById('view').width, document.getElementById('view').height]);
+  console.log(`screenshot: ${download.suggestedFilename()}, ${shot.length} bytes, ${shot.readUInt32BE(16)}x${shot.readUInt32BE(20)}`);
+  check(png && shot.readUInt32BE(16) === cw && shot.readUInt32BE(20) === ch &&
+        download.suggestedFilename() === 'histoview-screenshot-001.png', 'the screenshot is a PNG of the canvas');
+
+  // The traffic (docs/traffic.md, "Playing the traffic"): the demo's SUMO run, exported.
+  const traffic = await page.evaluate(() => hv.traffic());
+  check(traffic.vehicles > 0 && traffic.end > traffic.begin,
+        `the export carries the traffic (${traffic.vehicles} vehicles, ${traffic.begin} .. ${traffic.end} s)`);
+  const onRoad = [];
+  for (const t of [0.25, 0.5, 0.75].map((f) => traffic.begin + f * (traffic.end - traffic.begin))) {
+    await page.evaluate((t) => hv.setTrafficTime(t), t);
+    await page.waitForTimeout(200);
+    onRoad.push(await page.evaluate(() => ({ time: hv.status.time, vehicles: hv.status.vehicles })));
+  }
+  console.log('vehicles on the road: ' + onRoad.map((o) => `${o.vehicles} at ${o.time.toFixed(1)} s`).join(', '));
+  check(onRoad.some((o) => o.vehicles > 0), 'vehicles are on the road at some time');
+  check(new Set(onRoad.map((o) => o.vehicles)).size > 1 || onRoad[0].time !== onRoad[2].time, 'moving the time changes the traffic');
+  const trafficStill = await canvasUrl();
+  await page.evaluate(() => hv.playTraffic(true));
+  await page.waitForTimeout(1500);
+  const moving = await page.evaluate(() => hv.status);
+  await page.focus('#view');
+  await page.keyboard.press('KeyY');  // keys go to the canvas: pause
+  await page.waitForTimeout(300);
+  const paused = await page.evaluate(() => hv.status);
+  console.log(`traffic played 1.5 s: ${onRoad[2].time.toFixed(2)} -> ${moving.time.toFixed(2)} s; ` +
+              `${(100 * await fractionChanged(trafficStill)).toFixed(2)} % of the pixels changed`);
+  check(moving.trafficPlaying && moving.time !== onRoad[2].time, 'play moves the traffic\'s clock');
+  check(!paused.trafficPlaying, 'Y pauses it');
+
+  // The shared link: the address bar holds the view; a second page opened on it restores it.
+  await page.waitForTimeout(800);
+  const shared = await page.evaluate(() => ({ href: location.href, pose: hv.pose(), w: hv.timeWindow(), time: hv.status.time }));
+  console.log('shared link: ' + shared.href);
+  check(/[?&]pose=/.test(shared.href) && /[?&]from=/.test(shared.href) && /[?&]time=/.test(shared.href),
+        'the address bar holds the pose, the time window and the traffic\'s time');
+  const page2 = await browser.newPage({ viewport: { width: 1000, height: 560 } });
+  page2.on('pageerror', (e) => pageErrors.push(String(e)));
+  await page2.goto(shared.href);
+  await page2.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.length > 0), null, { timeout: 240000, polling: 250 });
+  const restored = await page2.evaluate(() => ({ pose: hv.pose(), w: hv.timeWindow(), time: hv.status.time, errors: hv.errors }));
+  const a = shared.pose.split(',').map(Number), b = restored.pose.split(',').map(Number);
+  const poseError = Math.max(...a.map((x, i) => Math.abs(x - b[i])));
+  console.log(`restored pose ${restored.pose} (largest difference ${poseError.toExponential(2)}), window ${restored.w.from} .. ${restored.w.to}, time ${restored.time}`);
+  check(restored.errors.length === 0 && a.length === 8 && poseError < 2e-4, 'the shared link restores the camera');
+  check(restored.w.from === shared.w.from && restored.w.to === shared.w.to && Math.abs(restored.time - shared.time) < 1e-3,
+        'the shared link restores the time window and the traffic\'s time');
+  await page2.close();
+
+  // Then and now at a photograph: the photograph over the canvas at its rectangle (the canvas
+  // letterboxes it: its aspect ratio kept, one side the canvas's), left out of the render; a
+  // move ends it.
+  const tn = await page.evaluate(async () => {
+    hv.focus(0);
+    const err = hv.thenNow(true);
+    const img = document.getElementById('then-now-image');
+    await img.decode();
+    return { err, hidden: img.hidden, w: parseFloat(img.style.width), h: parseFloat(img.style.height),
+             nw: img.naturalWidth, nh: img.naturalHeight };
+  });
+  await page.waitForFunction(() => hv.status.thenNow === 0, null, { timeout: 60000, polling: 250 });
+  console.log(`then and now: the ${tn.nw}x${tn.nh} photograph at ${tn.w.toFixed(1)}x${tn.h.toFixed(1)} on the ${cw}x${ch} canvas`);
+  check(!tn.err && !tn.hidden && Math.abs(tn.w / tn.h - tn.nw / tn.nh) < 0.01 * tn.nw / tn.nh &&
+        (Math.abs(tn.w - cw) < 0.01 || Math.abs(tn.h - ch) < 0.01) && tn.w <= cw + 0.01 && tn.h <= ch + 0.01,
+        'then and now lays the photograph over the canvas, letterboxed');
+  await page.evaluate(() => hv.move(0, 1, 0, 0, 0, 0.1));
+  await page.waitForFunction(() => hv.status.thenNow === -1, null, { timeout: 60000, polling: 250 });
+  await page.waitForTimeout(300);
+  check(await page.evaluate(() => document.getElementById('then-now-image').hidden), 'moving ends then and now');
+  check(pageErrors.length === 0, 'no page errors after the timeline, screenshot, traffic and link' +
+        (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));
 } catch (e) {
   check(false, 'the test ran: ' + e.message);
 } finally {

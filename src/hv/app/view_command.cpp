@@ -42,6 +42,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
                   "day of its first bar) to 1 (the last day of its last)");
   cmd->add_option("--play", o->playYearsPerSecond, "play the timeline from its start at this many years per second")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--traffic-play", o->trafficRate,
+                  "play the traffic from --time at this many simulated seconds per second (Y: play / pause)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--then-now", o->thenNow,
                 "start in then and now at --camera (a photograph): the photograph over the render without it");
   cmd->add_option("--then-now-opacity", o->thenNowOpacity,

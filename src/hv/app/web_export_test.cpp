@@ -7,6 +7,8 @@
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/io/web_scene.h"
+#include "hv/traffic/trajectories.h"
+#include "hv/traffic/vehicle_model.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -257,6 +259,74 @@ TEST(WebScene, RejectsBrokenFiles) {
 
   std::ofstream(dir / "bad.json") << R"({"format": "something else"})";
   EXPECT_THROW(readWebScene((dir / "bad.json").string(), {}, diag), InputError);
+  fs::remove_all(dir);
+}
+
+// The traffic travels as traffic.csv (vehicle centres in the scene frame) and vehicles.json (the
+// models as read): read back, the same vehicles at the same places, the same model triangles.
+TEST(WebScene, TrafficRoundTrip) {
+  const fs::path dir = fs::temp_directory_path() / ("hv_web_traffic_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  Diagnostics diag;
+  TrajectoryBuilder b;
+  b.add("bus_1", "bus", {0.0, {651000.25, 6862000.5}, 90.0});
+  b.add("bus_1", "bus", {10.0, {651100.25, 6862000.5}, 90.0});
+  b.add("car,2", "passenger", {5.0, {651010.0, 6862010.0}, 350.0});
+  b.add("car,2", "passenger", {6.5, {651010.0, 6862020.0}, 10.0});
+  auto traffic = std::make_shared<Trajectories>(b.finish("test", diag));
+  auto models = std::make_shared<VehicleModels>();
+  auto car = std::make_shared<VehicleModel>(boxWithWheelsModel());
+  car->vertices.resize(6);
+  car->vertices[4].paint = 1.0f;
+  car->vertices[2].colour = {0.25f, 0.5f, 0.75f};
+  car->source = "/somewhere/car.gltf";
+  models->byClass[std::size_t(VehicleClass::Car)] = car;
+  traffic->models = models;
+  Scene scene;
+  scene.origin = {651000.0, 6862000.0, 0.0};
+  scene.traffic = traffic;
+  writeWebScene(scene, {}, dir.string());
+  ASSERT_TRUE(fs::exists(dir / kWebTrafficFile));
+  ASSERT_TRUE(fs::exists(dir / kWebVehiclesFile));
+
+  Diagnostics readDiag;
+  const Scene back = readWebScene((dir / kWebSceneManifest).string(), {}, readDiag);
+  EXPECT_TRUE(readDiag.errors.empty()) << readDiag.errors.front();
+  ASSERT_TRUE(back.traffic);
+  ASSERT_EQ(back.traffic->vehicles.size(), 2u);
+  EXPECT_DOUBLE_EQ(back.traffic->tBegin, 0.0);
+  EXPECT_DOUBLE_EQ(back.traffic->tEnd, 10.0);
+  const Trajectory* bus = nullptr;
+  for (const auto& v : back.traffic->vehicles)
+    if (v.id == "bus_1") bus = &v;
+  ASSERT_NE(bus, nullptr);
+  EXPECT_EQ(bus->type, "bus");
+  EXPECT_DOUBLE_EQ(bus->size.length, vehicleSizeOf("bus").length);
+  const auto mid = sampleTrajectory(*bus, 5.0);
+  ASSERT_TRUE(mid);
+  EXPECT_NEAR(mid->xy.x, 651050.25, 1e-4);
+  EXPECT_NEAR(mid->xy.y, 6862000.5, 1e-4);
+  EXPECT_NEAR(mid->angleDeg, 90.0, 1e-6);
+  bool renamed = false;  // a comma in an id would split the CSV's row
+  for (const auto& v : back.traffic->vehicles) renamed |= v.id == "car_2";
+  EXPECT_TRUE(renamed);
+  ASSERT_TRUE(back.traffic->models);
+  const VehicleModel& m = back.traffic->models->of(VehicleClass::Car);
+  ASSERT_EQ(m.vertices.size(), 6u);
+  EXPECT_EQ(m.vertices[4].paint, 1.0f);
+  EXPECT_EQ(m.vertices[2].colour, glm::vec3(0.25f, 0.5f, 0.75f));
+  EXPECT_EQ(m.vertices[1].local, car->vertices[1].local);
+  EXPECT_EQ(m.vertices[1].normal, car->vertices[1].normal);
+  EXPECT_EQ(&back.traffic->models->of(VehicleClass::Bus), &boxWithWheelsModel());  // no model: the box
+
+  // A broken models file: reported by name, and the traffic left out.
+  std::ofstream(dir / kWebVehiclesFile) << R"({"car": {"vertices": [1, 2, 3]}})";
+  Diagnostics badDiag;
+  const Scene bad = readWebScene((dir / kWebSceneManifest).string(), {}, badDiag);
+  EXPECT_FALSE(bad.traffic);
+  ASSERT_EQ(badDiag.errors.size(), 1u);
+  EXPECT_NE(badDiag.errors[0].find("vehicles.json: car: vertices: 3 numbers"), std::string::npos) << badDiag.errors[0];
   fs::remove_all(dir);
 }
 

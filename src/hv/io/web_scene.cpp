@@ -2,8 +2,10 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/scene/chunks.h"
-#include "hv/util/log.h"
+#include "hv/traffic/trajectories.h"
+#include "hv/traffic/vehicle_model.h"
 #include "hv/util/input_file.h"
+#include "hv/util/log.h"
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +13,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -58,6 +61,79 @@ std::string readFileBytes(const fs::path& path) {
   f.read(bytes.data(), size);
   if (!f) throw InputError(path.string() + ": cannot read " + std::to_string(size) + " bytes");
   return bytes;
+}
+
+// traffic.csv (web_scene.h): every sample, the vehicle's centre in the scene frame.
+std::string webTrafficCsv(const Trajectories& traffic) {
+  // Ids and types are written as they are; a comma or line break in one (which the CSV reader
+  // would split) becomes '_'.
+  auto clean = [](std::string s) {
+    std::replace_if(
+        s.begin(), s.end(), [](char c) { return c == ',' || c == '\n' || c == '\r'; }, '_');
+    return s;
+  };
+  std::string out = "t,id,x,y,angle,type\n";
+  char buf[128];
+  for (const Trajectory& v : traffic.vehicles) {
+    const std::string id = clean(v.id), type = clean(v.type);
+    for (const TrajectorySample& s : v.samples) {
+      std::snprintf(buf, sizeof buf, "%.9g,", s.t);
+      out += buf;
+      out += id;
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.6f,", s.xy.x, s.xy.y, s.angleDeg);
+      out += buf;
+      out += type;
+      out += '\n';
+    }
+  }
+  return out;
+}
+
+// vehicles.json (web_scene.h): the models of the classes that have one.
+json webVehicleModels(const VehicleModels& models) {
+  json out = json::object();
+  for (int c = 0; c < kVehicleClasses; ++c) {
+    const auto& m = models.byClass[std::size_t(c)];
+    if (!m) continue;
+    std::vector<float> v;
+    v.reserve(m->vertices.size() * 10);
+    for (const ModelVertex& x : m->vertices)
+      for (float f : {x.local.x, x.local.y, x.local.z, x.normal.x, x.normal.y, x.normal.z, x.colour.r, x.colour.g,
+                      x.colour.b, x.paint})
+        v.push_back(f);
+    out[vehicleClassName(VehicleClass(c))] = {{"source", fs::path(m->source).filename().string()}, {"vertices", v}};
+  }
+  return out;
+}
+
+std::shared_ptr<const VehicleModels> readWebVehicleModels(const json& j, const std::string& name) {
+  if (!j.is_object()) throw InputError(name + ": expected an object of vehicle classes");
+  auto models = std::make_shared<VehicleModels>();
+  for (int c = 0; c < kVehicleClasses; ++c) {
+    const char* cls = vehicleClassName(VehicleClass(c));
+    if (!j.contains(cls)) continue;
+    const json& m = j[cls];
+    if (!m.is_object() || !m.contains("vertices") || !m["vertices"].is_array())
+      throw InputError(name + ": " + cls + ": expected {\"vertices\": [10 numbers per vertex]}");
+    const json& a = m["vertices"];
+    if (a.size() % 30 != 0)
+      throw InputError(name + ": " + cls + ": vertices: " + std::to_string(a.size()) +
+                       " numbers, expected 10 per vertex and 3 vertices per triangle");
+    auto model = std::make_shared<VehicleModel>();
+    model->source = name + ": " + cls;
+    for (std::size_t i = 0; i < a.size(); i += 10) {
+      float f[10];
+      for (std::size_t k = 0; k < 10; ++k) {
+        if (!a[i + k].is_number() || !std::isfinite(a[i + k].get<double>()))
+          throw InputError(name + ": " + cls + ": vertices: element " + std::to_string(i + k) +
+                           ": expected a finite number");
+        f[k] = a[i + k].get<float>();
+      }
+      model->vertices.push_back({{f[0], f[1], f[2]}, {f[3], f[4], f[5]}, {f[6], f[7], f[8]}, f[9]});
+    }
+    models->byClass[std::size_t(c)] = std::move(model);
+  }
+  return models;
 }
 
 Mesh* meshByName(Scene& scene, const std::string& name) {
@@ -279,6 +355,18 @@ void writeWebScene(const Scene& scene, const std::vector<Photo>& photos, const s
                    {"buildingValidity", validity},
                    {"cameras", "cameras.json"}};
   if (!points.is_null()) manifest["points"] = points;
+  if (scene.traffic && !scene.traffic->vehicles.empty()) {
+    writeFile(dir / kWebTrafficFile, webTrafficCsv(*scene.traffic));
+    json traffic = {{"csv", kWebTrafficFile},
+                    {"vehicles", scene.traffic->vehicles.size()},
+                    {"begin", scene.traffic->tBegin},
+                    {"end", scene.traffic->tEnd}};
+    if (scene.traffic->models) {
+      writeFile(dir / kWebVehiclesFile, webVehicleModels(*scene.traffic->models).dump());
+      traffic["models"] = kWebVehiclesFile;
+    }
+    manifest["traffic"] = traffic;
+  }
   writeFile(dir / "cameras.json", cameraJson(photos, dir.string()));
   writeFile(dir / kWebSceneManifest, manifest.dump(1));
 }
@@ -350,6 +438,32 @@ Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& optio
       scene.points = std::move(cloud);
     } catch (const std::exception& e) {
       diag.error(manifestPath + ": points: " + e.what() + " (points left out)");
+    }
+  }
+  if (j.contains("traffic")) {
+    // Trajectories in the scene frame, vehicle centres (the CSV form); models as fractions of the
+    // vehicle's size. A broken file leaves the traffic out, named.
+    try {
+      const json& t = j["traffic"];
+      if (!t.is_object() || !t.contains("csv") || !t["csv"].is_string())
+        throw InputError("expected {\"csv\": \"traffic.csv\", \"models\": \"vehicles.json\"}");
+      const fs::path csv = dir / t["csv"].get<std::string>();
+      auto traffic = std::make_shared<Trajectories>(parseTrajectoriesCsv(readFileBytes(csv), csv.string(), diag));
+      if (t.contains("models")) {
+        if (!t["models"].is_string()) throw InputError("models: expected the name of a file");
+        const fs::path file = dir / t["models"].get<std::string>();
+        json m;
+        try {
+          m = json::parse(readFileBytes(file));
+        } catch (const json::exception& e) {
+          throw InputError(file.string() + ": not valid JSON: " + e.what());
+        }
+        traffic->models = readWebVehicleModels(m, file.string());
+      }
+      scene.trafficPath = csv.string();
+      scene.traffic = std::move(traffic);
+    } catch (const std::exception& e) {
+      diag.error(manifestPath + ": traffic: " + e.what() + " (traffic left out)");
     }
   }
   CameraFileOptions camOptions;

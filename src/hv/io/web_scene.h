@@ -9,10 +9,17 @@
 //                                "vertices": V, "triangles": T, "tags": true | false}, ...],
 //                    "buildingValidity": [[first, last], ...],            (days, hv/util/dates.h)
 //                    "points": {"path": "points.bin", "count": N, "bytes": B},  (optional)
+//                    "traffic": {"csv": "traffic.csv", "models": "vehicles.json",  (optional)
+//                                "vehicles": V, "begin": t0, "end": t1},
 //                    "cameras": "cameras.json"}
 //   NAME.bin        V*3 float32 positions relative to `origin` (render frame), then T*3 uint32
 //                   indices, then (when "tags") T uint32 triangle tags; little-endian, no header.
 //   points.bin      the point cloud (scene.points, in the scene frame, normals as loaded), below.
+//   traffic.csv     the scene's trajectories (hv/traffic/trajectories.h's CSV: t,id,x,y,angle,type),
+//                   x, y the vehicle's centre in the scene frame (SUMO's front bumper already moved).
+//   vehicles.json   {"car": {"source": "car.gltf", "vertices": [...]}, ...}: the glTF models as read
+//                   (hv/traffic/vehicle_model.h), 10 float per vertex (local xyz, normal xyz,
+//                   colour rgb, paint), three vertices per triangle; classes without one: the box.
 //   cameras.json    the native camera file (hv/io/cameras_json.h), image paths relative to it.
 //
 // points.bin, little-endian, every array tightly packed, in this order:
@@ -43,6 +50,8 @@ namespace hv {
 
 inline constexpr const char* kWebSceneManifest = "scene_web.json";
 inline constexpr const char* kWebPointsFile = "points.bin";
+inline constexpr const char* kWebTrafficFile = "traffic.csv";
+inline constexpr const char* kWebVehiclesFile = "vehicles.json";
 
 // points.bin (above) of `cloud`, positions relative to `origin`.
 std::string webPointBytes(const PointCloud& cloud, const glm::dvec3& origin);

@@ -24,6 +24,7 @@ struct ViewerOptions {
   double movingScale = 0.5;      // render resolution while the camera moves (progressive)
   std::string timeline;          // "A:B": the time window at these timeline positions (0..1)
   double playYearsPerSecond = 0;  // > 0: play the timeline from the start at this speed
+  double trafficRate = 0;         // > 0: play the traffic from --time at this many simulated s per s
   bool thenNow = false;           // start in then and now at --camera (a photograph)
   double thenNowOpacity = -1;     // >= 0: then and now with this opacity
   double thenNowSwipe = -1;       // >= 0: then and now with a swipe at this position

@@ -15,6 +15,7 @@
 #include "hv/viewer/desktop/pose_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
 #include "hv/viewer/desktop/timeline_panel.h"
+#include "hv/viewer/desktop/traffic_panel.h"
 #include "hv/viewer/key_events.h"
 #include "hv/viewer/navigation.h"
 #include "hv/viewer/then_now.h"
@@ -141,6 +142,8 @@ class Viewer {
       timeline_->play().yearsPerSecond = o_.playYearsPerSecond;
       timeline_->startPlay(rs);
     }
+    traffic_ = std::make_unique<TrafficPanel>(scene, rs);
+    if (o_.trafficRate > 0.0 && traffic_->present()) traffic_->play().rate = o_.trafficRate, traffic_->toggle(rs);
 
     nav_->setCamera(startCamera(window_->framebufferSize()));
     if (o_.walk) nav_->setMode(Mode::Walk);
@@ -238,6 +241,7 @@ class Viewer {
     }
     if (keys_.pressed(GLFW_KEY_SPACE)) togglePlay();
     if (keys_.pressed(GLFW_KEY_O)) togglePose();
+    if (keys_.pressed(GLFW_KEY_Y)) traffic_->toggle(renderer_->settings());
   }
 
   // Pose mode (pose_panel.h) at the chosen photograph; its solved camera replaces the
@@ -515,6 +519,7 @@ class Viewer {
       settingsChanged_ |= t.changed;
       if (t.chosen >= 0) focusOn(t.chosen);
     }
+    if (ImGui::CollapsingHeader("Traffic", ImGuiTreeNodeFlags_DefaultOpen)) settingsChanged_ |= traffic_->draw(rs);
 
     // The render settings, a section per group of the schema (render/settings_schema.h).
     const Scene& scene = session_->scene;
@@ -607,7 +612,8 @@ class Viewer {
       const auto t0 = Clock::now();
       // Idle (nothing moving, the view converged): sleep until an event instead of spinning.
       const bool idle = haveFrame && !focusPath_ && renderer_->converged() && renderedScale == 1.0 && !o_.redraw &&
-                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge && !timeline_->player().playing();
+                        !settingsChanged_ && !recording_ && !o_.exitAfterConverge && !timeline_->player().playing() &&
+                        !traffic_->clock().playing();
       window_->pollEvents(idle ? 0.25 : 0.0);
       const double elapsed = std::max(0.0, std::chrono::duration<double>(Clock::now() - last).count());
       const double dt = std::min(elapsed, 0.1);
@@ -627,6 +633,7 @@ class Viewer {
       if (thenNow_.on && (in.move != glm::dvec3(0.0) || in.lookPixels != glm::dvec2(0.0)))
         leaveThenNow();  // the photograph fits only its own camera
       if (timeline_->step(elapsed, renderer_->settings())) settingsChanged_ = true;  // play, at wall-clock speed
+      if (traffic_->step(elapsed, renderer_->settings())) settingsChanged_ = true;
       if (focusPath_) {
         const double t = msSince(focusStart_) / 1000.0;
         nav_->setCamera(focusPath_->at(t));
@@ -731,6 +738,7 @@ class Viewer {
     }
     if (recording_) toggleRecording();
     if (poseScriptFailed_) exitCode = 2;
+    if (o_.trafficRate > 0.0) std::cout << "viewer: traffic at " << renderer_->settings().traffic.time << " s\n";
     if (o_.printFrameTimes) {
       std::cout << std::fixed << std::setprecision(1) << "frame times: " << allMs.size() << " rendered frame(s), median "
                 << median(allMs) << " ms";
@@ -760,6 +768,7 @@ class Viewer {
   std::unique_ptr<TimelinePanel> timeline_;
   std::unique_ptr<PosePanel> pose_;
   bool poseScriptFailed_ = false;
+  std::unique_ptr<TrafficPanel> traffic_;
   ThenNowState thenNow_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;
