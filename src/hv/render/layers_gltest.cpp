@@ -256,6 +256,50 @@ TEST(LayeredRendering, PaintedHiddenFacadeMatchesTheCpuReference) {
   EXPECT_LE(colourDiffers, sqCount / 50) << "colour differs by more than 8/255 on more than 2 % of the pixels";
   EXPECT_GE(psnr, 30.0);
 
+  // The occluder's far walls, between it and the painted façade, on rays one texel or more inside
+  // the painted region: in front of D_2, so the painting never lands there (the test is
+  // two-sided; a one-sided test paints them). Seen from halfway between such a wall and the
+  // façade behind it, looking at the wall.
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> farWalls;  // (wall point, façade point behind it)
+  for (int y = 1; y + 1 < ex.hits.height; ++y)
+    for (int x = 1; x + 1 < ex.hits.width; ++x) {
+      bool interior = true;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const std::size_t q = std::size_t(y + dy) * std::size_t(ex.hits.width) + std::size_t(x + dx);
+          interior = interior && hiddenAt(x + dx, y + dy) && ex.hits.hits[ex.hits.first[q]].object == occluder;
+        }
+      const std::optional<glm::dvec3> ray = layers::pixelRay(ex.camera, x, y);
+      if (!interior || !ray) continue;
+      const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
+      const double behind = ex.hits.hits[std::size_t(ex.visibility.hitOfLayer(ex.hits, p, 2))].depth;
+      double t = ex.hits.hits[ex.hits.first[p]].depth + 1e-3;
+      while (const std::optional<RayHit> h = caster.intersect(ex.camera.center, *ray, t)) {
+        if (h->t >= behind - 0.5) break;
+        if (ex.objects.objectOfTriangle[h->triangle] == occluder && glm::dot(h->normal, *ray) > 0.0)
+          farWalls.push_back({h->position, ex.camera.center + *ray * behind});
+        t = h->t + 1e-3;
+      }
+    }
+  ASSERT_GE(farWalls.size(), 20u);
+  const auto& [wall, facade] = farWalls[farWalls.size() / 2];
+  const Camera between =
+      lookAtCamera("between", 0.5 * (wall + facade) + glm::dvec3(0.0, 0.0, 1.0), wall, 200, 150, 150.0);
+  const RenderOutput back = renderer.render(between);
+  std::size_t wallSeen = 0, wallMagenta = 0;
+  for (int y = 0; y < between.height; ++y)
+    for (int x = 0; x < between.width; ++x) {
+      const std::optional<RayHit> hit =
+          caster.intersect(between.center, between.rayDirection(glm::dvec2(x + 0.5, y + 0.5)));
+      if (!hit || ex.objects.objectOfTriangle[hit->triangle] != occluder) continue;
+      ++wallSeen;
+      wallMagenta += magentaPixel(back.rgba.px(x, y));
+    }
+  std::cout << "[ layered GL ] from between the buildings: occluder's far wall at " << wallSeen << " pixels, "
+            << wallMagenta << " magenta\n";
+  EXPECT_GE(wallSeen, 100u);
+  EXPECT_EQ(wallMagenta, 0u) << "the painting shows on the occluder's far wall";
+
   // The same photograph without its layers: no magenta anywhere (the renderer goes back to it).
   renderer.setLayeredPhotograph(int(photo), nullptr);
   const RenderOutput plain = renderer.render(view);
