@@ -4,6 +4,7 @@
 // rendered from a viewpoint turned around the hidden façade (docs/layers.md, "Rendering in the GL
 // renderer").
 #include "hv/ibr/reference_blend.h"
+#include "hv/image/native/png_write.h"
 #include "hv/layers/native/layer_export.h"
 #include "hv/layers/native/layer_import.h"
 #include "hv/layers/native/openraster.h"
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -307,6 +309,18 @@ TEST(LayeredRendering, PaintedHiddenFacadeMatchesTheCpuReference) {
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) plainMagenta += magentaPixel(plain.rgba.px(x, y));
   EXPECT_EQ(plainMagenta, 0u);
+  // HV_LAYERS_FIGURE=file.png: the view without the layers (left) and with them (right), the
+  // picture of docs/layers.md.
+  if (const char* figure = std::getenv("HV_LAYERS_FIGURE")) {
+    Image8 pair(2 * view.width, view.height, 3);
+    for (int y = 0; y < view.height; ++y)
+      for (int x = 0; x < view.width; ++x)
+        for (int c = 0; c < 3; ++c) {
+          pair.at(x, y, c) = plain.rgba.px(x, y)[c];
+          pair.at(view.width + x, y, c) = out.rgba.px(x, y)[c];
+        }
+    writePng(figure, pair);
+  }
   EXPECT_EQ(renderer.lastImageParams().size(), 1u);
   EXPECT_EQ(renderer.lastImageParams()[0].layer, 0);
 }
