@@ -92,17 +92,17 @@ function(hv_define_modules)
   hv_module(io PORTABLE DIRS io DEPS camera scene util PRIVATE_DEPS traffic EXTERNAL json)
   hv_module(ibr PORTABLE DIRS ibr DEPS camera image scene util PRIVATE_EXTERNAL nanoflann stb)
   hv_module(gpu PORTABLE DIRS gpu DEPS image util EXTERNAL gles glm EXTRA_SOURCES ${HV_SHADER_CPP})
+  # Layered projective texture maps (2003): visibility layers, image-layer clustering, sub-image frusta.
+  hv_module(layers PORTABLE DIRS layers DEPS camera image EXTERNAL glm)
   # The renderer without GL: settings and their schema, the frame, the frame builder, the backend
   # interface and the null backend (tested on the CPU). render/renderer.h is its API; the class is
   # implemented in render_gl, over the GLES backend and its passes.
-  hv_module(render PORTABLE DIRS render EXCLUDE ".*/render/renderer\\.cpp$" DEPS camera ibr image scene traffic util
+  hv_module(render PORTABLE DIRS render EXCLUDE ".*/render/renderer\\.cpp$" DEPS camera ibr image layers scene traffic util
             PRIVATE_EXTERNAL json)
   hv_module(render_gl PORTABLE DIRS render/gl EXTRA_SOURCES ${CMAKE_SOURCE_DIR}/src/hv/render/renderer.cpp
-            DEPS gpu render PRIVATE_DEPS camera ibr image scene util)
+            DEPS gpu render PRIVATE_DEPS camera ibr image layers scene util)
   hv_module(viewer PORTABLE DIRS viewer DEPS camera image util PRIVATE_DEPS scene)
   hv_module(pose PORTABLE DIRS pose DEPS camera util EXTERNAL glm PRIVATE_EXTERNAL eigen)
-  # Layered projective texture maps (2003): visibility layers, image-layer clustering, sub-image frusta.
-  hv_module(layers PORTABLE DIRS layers DEPS camera image EXTERNAL glm)
   # Native: GDAL/OGR/PROJ, GEOS, Embree, Assimp, libpng, EGL, GLFW + Dear ImGui, CLI11.
   hv_module(image_native DIRS image/native DEPS image PRIVATE_EXTERNAL png)
   hv_module(scene_native DIRS scene/native DEPS scene util PRIVATE_EXTERNAL geos embree)

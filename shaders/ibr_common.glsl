@@ -16,7 +16,10 @@ struct HvImage {
   bool fisheye;
   float r2max;    // normalised; < 0: no distortion
   vec2 size;      // image width, height (pixels)
-  vec2 uvScale;   // texture uv = p_distorted * uvScale
+  vec2 uvScale;   // texture uv = (p_distorted - uvOffset) * uvScale
+  vec2 uvOffset;  // 0, or a sub-image's window corner (Layered projective texture maps, 2003, §5.1)
+  float layer;    // a layered photograph's sub-image: its visibility layer k; 0: a photograph
+  float group;    // a sub-image: its photograph's index + 1 (one weight per group); 0: none
   float slice;
   float weight;
   vec2 depthMin, depthInvSize;
@@ -61,14 +64,17 @@ HvImage hv_fetchImage(int i) {
   im.biasRel = t7.w;
   im.date = t8.xy;
   im.focal = t8.z;
+  im.layer = t8.w;
   im.dscale = t9.xy;
   im.p1 = t9.z;
   im.p2 = t9.w;
   im.l1 = t10.x;
   im.l2 = t10.y;
   im.fisheye = t10.z > 0.5;
+  im.group = t10.w;
   im.gain = t11.rgb;
   im.offset = t12.rgb;
+  im.uvOffset = vec2(t11.w, t12.w);
   return im;
 }
 

@@ -106,8 +106,9 @@ bool hv_appliesAt(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, ou
   if (!hv_project(im, P, p, pd, z)) return false;
   if (!hv_existedAt(im, existed)) return false;
   dt = hv_depthCoord(im, p);
-  uv = pd * im.uvScale;
-  return true;
+  uv = (pd - im.uvOffset) * im.uvScale;
+  // A sub-image textures the points whose projection falls in its window (uv in [0, 1]^2).
+  return im.layer <= 0.0 || (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0))));
 }
 
 bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out float z) {
@@ -146,6 +147,7 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
                   inout HvBlend b) {
   if (b.done || i >= u_imageCount) return;
   HvImage im = hv_fetchImage(i);
+  if (im.layer > 0.0) return;  // layered photographs: the array binding only (docs/layers.md)
   vec2 dt, uv;
   float z;
   if (!hv_applies(im, P, existed, dt, uv, z)) return;
@@ -156,6 +158,32 @@ void hv_naiveStep(int i, highp sampler2D image, highp sampler2D depth, vec3 P, v
 #endif
 
 #ifndef HV_NAIVE
+// The two-sided depth test of a layered photograph's sub-image (Layered projective texture maps,
+// 2003, §5; twin of hv::layers::onPeeledSurface): its slot's depth map holds D_k, the nearest
+// surface of visibility layers >= k, over the sub-image's sheared frustum. P passes when its
+// distance from the camera lies within the range of the four texels a bilinear lookup at dt reads
+// (those with a surface), widened by biasAbs + biasRel * distance (the sub-image's tolerance);
+// the texels' depths along the axis become distances along P's ray (times |P - C| / z).
+bool hv_onPeeledSurface(HvImage im, float z, vec2 dt, vec3 P) {
+  ivec2 size = textureSize(u_depthMaps, 0).xy;
+  ivec2 t0 = ivec2(floor(dt * vec2(size) - 0.5));
+  float lo = 1e30, hi = -1e30;
+  for (int dy = 0; dy <= 1; ++dy)
+    for (int dx = 0; dx <= 1; ++dx) {
+      ivec2 t = clamp(t0 + ivec2(dx, dy), ivec2(0), size - 1);
+      float stored = texelFetch(u_depthMaps, ivec3(t, int(im.slice + 0.5)), 0).r;
+      if (stored >= 1.0) continue;  // no surface of these layers on that ray
+      float zMap = mix(im.near, im.far, stored);
+      lo = min(lo, zMap);
+      hi = max(hi, zMap);
+    }
+  if (lo > hi) return false;
+  float d = length(P - im.C);
+  float toDistance = d / z;
+  float tol = im.biasAbs + im.biasRel * d;
+  return d >= lo * toDistance - tol && d <= hi * toDistance + tol;
+}
+
 // The transient filter (docs/design.md, step 5, "Consensus"), twin of hv::ibr::consensusWeights:
 // from the component-wise median of the contributing samples' colours, three mean-shift steps with
 // a Gaussian kernel weighted by the blend weights, then each weight times the kernel at its
@@ -244,7 +272,7 @@ float hv_feather(HvImage im, vec2 p, vec2 pd, vec2 uv) {
     b = min(b, (sqrt(im.r2max) - length(x)) * min(im.dscale.x, im.dscale.y));
   }
   float f = smoothstep(0.0, u_feather, b);
-  if (u_maskFeather && f > 0.0) {
+  if (u_maskFeather && im.layer <= 0.0 && f > 0.0) {  // a sub-image's alpha is not a mask
     float level = max(0.0, log2(max(u_feather * im.uvScale.x * u_sliceWidth, 1.0)));
     f *= clamp(2.0 * textureLod(u_images, vec3(uv, im.slice), level).a - 1.0, 0.0, 1.0);
   }
@@ -330,16 +358,25 @@ void main() {
   int nSamp = 0;
   int nPassed = 0;
   float fNextRegion = 0.0;
+  // A layered photograph's sub-images are consecutive with one group: the first that passes
+  // stands for the photograph, the rest of its group are skipped.
+  float doneGroup = 0.0;
   for (int k = 0; k < n; ++k) {
     int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
     HvImage im = hv_fetchImage(i);
+    if (im.group > 0.0 && im.group == doneGroup) continue;
     vec2 dt, uv, p, pd;
     float z;
     if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
-    if (u_occlusion && hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack))
+    if (im.layer > 0.0) {
+      if (!hv_onPeeledSurface(im, z, dt, P)) continue;
+    } else if (u_occlusion &&
+               hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack)) {
       continue;
+    }
     vec4 texel = hv_correctColour(im, hv_samplePhoto(im, uv, P, dPdx, dPdy));
     if (texel.a <= 0.0) continue;
+    doneGroup = im.group;
     float feather = hv_feather(im, p, pd, uv);
     if (!geometry && consensus) {
       // As hv_accumulateFeathered: region, the first K that pass, f(d_K+1) from the next one;

@@ -121,6 +121,7 @@ void main() {
 #endif
   for (int i = 0; i < n; ++i) {
     HvImage im = hv_fetchImage(i);
+    if (im.layer > 0.0) continue;  // layered photographs texture the mesh pass only (docs/layers.md)
 #ifdef HV_MAT3_K
     vec3 pi = v_H[i] * p;
 #else

@@ -127,7 +127,7 @@ void packImageParams(const ImageParams& p, float* o) {
   o[32] = days.x;
   o[33] = days.y;
   o[34] = float(0.5 * (cam.focal.x + cam.focal.y));
-  o[35] = 0.0f;
+  o[35] = float(p.layer);
   o[36] = float(d.scale.x);
   o[37] = float(d.scale.y);
   o[38] = float(d.p1);
@@ -135,13 +135,13 @@ void packImageParams(const ImageParams& p, float* o) {
   o[40] = float(d.l1);
   o[41] = float(d.l2);
   o[42] = d.model == LensDistortion::Model::Fisheye ? 1.0f : 0.0f;
-  o[43] = 0.0f;
+  o[43] = float(p.group);
   for (int c = 0; c < 3; ++c) {
     o[44 + c] = float(p.colour.gain[c]);
     o[48 + c] = float(p.colour.offset[c]);
   }
-  o[47] = 0.0f;
-  o[51] = 0.0f;
+  o[47] = float(p.uvOffset.x);
+  o[51] = float(p.uvOffset.y);
 }
 
 }  // namespace hv::ibr

@@ -12,8 +12,8 @@
 
 #include <glm/glm.hpp>
 
-#include <optional>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,10 +75,10 @@ struct BlendSettings {
   // Region: how many photographs a frame may make resident and pass to the shader (also capped by
   // the image slots). Global ignores it.
   int candidates = 24;
-  RegionGrid regionGrid;      // region: how finely the view is sampled for candidates
-  double sigma = -1.0;        // f(d) = 1/(sigma^2 + d^2); <= 0: the scene's camera spacing
+  RegionGrid regionGrid;  // region: how finely the view is sampled for candidates
+  double sigma = -1.0;    // f(d) = 1/(sigma^2 + d^2); <= 0: the scene's camera spacing
   BlendMethod method = BlendMethod::Blend;
-  bool occlusion = true;      // depth-map (shadow) test
+  bool occlusion = true;  // depth-map (shadow) test
   bool masks = true;
   // Each photograph's colour correction (Photo::colour) applied to its texels; without corrections
   // in the scene, all are the identity.
@@ -101,7 +101,7 @@ struct SelectedImage {
 };
 
 struct FramePlan {
-  Camera view;                          // world frame
+  Camera view;  // world frame
   // Ascending distance. Global: the K nearest, weight f(d_i) - f(d_K+1). Region: the candidates,
   // weight f(d_i) (the shader subtracts each pixel's own f(d_K+1)).
   std::vector<SelectedImage> images;
@@ -131,11 +131,16 @@ struct SliceLayout {
 //   t6     : depth rect: pxMin (xy), 1/(pxMax - pxMin) (zw)
 //   t7     : near, far, bias (absolute, scene units), bias (relative to depth)
 //   t8     : the photograph's date interval (days since 1970-01-01, hv/util/dates.h; +-kOpenDay when
-//            undated), focal length (pixels, mean of fx and fy), 0
+//            undated), focal length (pixels, mean of fx and fy), visibility layer k of a layered
+//            photograph's sub-image (0: a photograph as it is)
 //   t9     : distortion scale (xy), tangential p1, p2
-//   t10    : fish-eye affine l1, l2, model (0 polynomial, 1 fish-eye), 0
-//   t11    : colour gain (rgb), 0       (hv::ColourCorrection; identity when switched off)
-//   t12    : colour offset (rgb), 0
+//   t10    : fish-eye affine l1, l2, model (0 polynomial, 1 fish-eye), group (sub-images: the
+//            photograph's index + 1, the same for all its sub-images; 0 otherwise)
+//   t11    : colour gain (rgb), uv offset x   (hv::ColourCorrection; identity when switched off)
+//   t12    : colour offset (rgb), uv offset y
+// Texture uv = (pxDistorted - uvOffset) * uvScale: the offset is 0 for a photograph, its window's
+// top-left corner for a sub-image (Layered projective texture maps, 2003, §5.1), whose bias terms
+// (t7.zw) then hold the two-sided depth test's tolerance (metres, relative to the distance).
 inline constexpr int kTexelsPerImage = 13;
 // Stands for an open end of a date interval on the GPU (days; floats hold whole days exactly up
 // to 2^24, so day numbers of the last and next few millennia are exact).
@@ -162,8 +167,14 @@ struct ImageParams {
   double weight = 0.0;
   PinholeFrustum depth;
   DepthBias bias;
-  DateInterval date;  // the photograph's (open when undated)
+  DateInterval date;        // the photograph's (open when undated)
   ColourCorrection colour;  // applied to its texels (identity: none)
+  // A layered photograph's sub-image (render/frame_builder.h): its window's top-left corner
+  // (photograph pixels), its visibility layer k >= 1 and its group (the photograph's index + 1).
+  // 0 for a photograph as it is.
+  glm::dvec2 uvOffset{0.0};
+  int layer = 0;
+  int group = 0;
 };
 
 ImageParams makeImageParams(const Camera& camera, const glm::dvec3& origin, const SliceLayout& layout, double weight,

@@ -125,13 +125,31 @@ TEST(PackImageParams, LayoutMatchesTheShaderReader) {
   EXPECT_FLOAT_EQ(o[32], -1e7f);  // undated: open interval
   EXPECT_FLOAT_EQ(o[33], 1e7f);
   EXPECT_FLOAT_EQ(o[34], 350.0f);  // the focal length, for the geometry weights' footprints
-  EXPECT_FLOAT_EQ(o[36], 1.0f);  // a pixel polynomial: scale 1, no tangential or affine terms
+  EXPECT_FLOAT_EQ(o[36], 1.0f);    // a pixel polynomial: scale 1, no tangential or affine terms
   EXPECT_FLOAT_EQ(o[38], 0.0f);
   EXPECT_FLOAT_EQ(o[42], 0.0f);  // polynomial model
   for (int c = 0; c < 3; ++c) {  // no correction: gain 1, offset 0 (t11, t12)
     EXPECT_FLOAT_EQ(o[44 + c], 1.0f);
     EXPECT_FLOAT_EQ(o[48 + c], 0.0f);
   }
+  // A photograph as it is: no layer, no group, no uv offset (t8.w, t10.w, t11.w, t12.w).
+  EXPECT_EQ(o[35], 0.0f);
+  EXPECT_EQ(o[43], 0.0f);
+  EXPECT_EQ(o[47], 0.0f);
+  EXPECT_EQ(o[51], 0.0f);
+  // A layered photograph's sub-image (Layered projective texture maps, 2003, §5.1).
+  ImageParams sub = p;
+  sub.layer = 2;
+  sub.group = 5;
+  sub.uvOffset = {120.5, 33.0};
+  float os[kTexelsPerImage * 4];
+  packImageParams(sub, os);
+  EXPECT_EQ(os[35], 2.0f);
+  EXPECT_EQ(os[43], 5.0f);
+  EXPECT_EQ(os[47], 120.5f);
+  EXPECT_EQ(os[51], 33.0f);
+  for (int i = 0; i < kTexelsPerImage * 4; ++i)
+    if (i != 35 && i != 43 && i != 47 && i != 51) EXPECT_EQ(os[i], o[i]) << "float " << i;
   ImageParams corrected = p;
   corrected.colour = {{1.25, 0.5, 2.0}, {-0.125, 0.25, 0.0625}};
   packImageParams(corrected, o);
@@ -231,8 +249,8 @@ namespace {
 
 TEST(ShadowBias, GrowsWithTheTangentOfIncidence) {
   const DepthBias b{0.05, 0.002};
-  EXPECT_DOUBLE_EQ(shadowBias(b, 10.0, 1.0), 0.05 + 0.02);              // facing: tan 0
-  EXPECT_NEAR(shadowBias(b, 10.0, std::cos(M_PI / 4)), 0.05 + 0.04, 1e-12);  // 45 degrees: tan 1
+  EXPECT_DOUBLE_EQ(shadowBias(b, 10.0, 1.0), 0.05 + 0.02);                                    // facing: tan 0
+  EXPECT_NEAR(shadowBias(b, 10.0, std::cos(M_PI / 4)), 0.05 + 0.04, 1e-12);                   // 45 degrees: tan 1
   EXPECT_NEAR(shadowBias(b, 10.0, 0.0), 0.05 + 0.02 * (1.0 + std::sqrt(0.99) / 0.1), 1e-12);  // clamped
 }
 

@@ -42,8 +42,8 @@ struct PointProgramRequest {
   double maxPointSizePx = 64.0;
 };
 struct PointProgramInfo {
-  int mat3Images = 0;          // > 0: the 2016 form with this many images
-  float maxPointSize = 1.0f;   // pixels, also capped by ALIASED_POINT_SIZE_RANGE
+  int mat3Images = 0;         // > 0: the 2016 form with this many images
+  float maxPointSize = 1.0f;  // pixels, also capped by ALIASED_POINT_SIZE_RANGE
 };
 
 class Backend {
@@ -65,6 +65,10 @@ class Backend {
   // Makes a decoded photograph resident in `slot` (premultiplied RGBA, the layout's slice size).
   virtual void uploadImage(int slot, const Image8& slice) = 0;
   virtual void drawDepthMap(const DepthMapJob& job) = 0;
+  // Fills the depth map of `slot` with `depth` (size x size texels, row 0 at the frustum's pxMin.y,
+  // linear depth in [0, 1] between near and far, 1: no surface) instead of drawing it: a layered
+  // photograph's peeled depth map D_k over its sub-image's frustum (render/frame_builder.h).
+  virtual void uploadDepthMap(int slot, const std::vector<float>& depth) = 0;
   // Waits until the depth maps asked so far are drawn (a time budget is about GPU time).
   virtual void finishDepthMaps() = 0;
   // The view passes: view depth, points, tile lists, shading, debug view, overlays, read-back.

@@ -1,6 +1,7 @@
 #include "hv/render/frame_builder.h"
 
 #include "hv/ibr/slice_image.h"
+#include "hv/layers/sub_image.h"
 #include "hv/render/geometry_tiles.h"
 #include "hv/render/vehicles.h"
 #include "hv/traffic/lift.h"
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace hv::render {
@@ -30,7 +32,11 @@ DateInterval photoDate(const Photo& p) {
 }  // namespace
 
 FrameBuilder::FrameBuilder(const Scene& scene, const RenderSettings& settings, Diagnostics& diag, Backend& backend)
-    : scene_(scene), settings_(settings), diag_(diag), backend_(backend), limits_(backend.limits()),
+    : scene_(scene),
+      settings_(settings),
+      diag_(diag),
+      backend_(backend),
+      limits_(backend.limits()),
       index_(centers(scene)) {
   buildGeometry();
   if (scene_.terrainTiles)
@@ -40,6 +46,8 @@ FrameBuilder::FrameBuilder(const Scene& scene, const RenderSettings& settings, D
   if (settings_.points.enabled) initPoints();
   allocateSlots();
   photoBroken_.assign(scene_.photos.size(), false);
+  layered_.assign(scene_.photos.size(), nullptr);
+  subKeys_.assign(scene_.photos.size(), {});
   depthInputs_ = depthMapInputs();
 }
 
@@ -66,8 +74,9 @@ void FrameBuilder::allocateSlots() {
   const std::size_t perSlot = (naive() ? std::size_t(w) * h * 4 : ibr::mipChainBytes(w, h)) +
                               std::size_t(layout_.depthSize) * layout_.depthSize * 4;
   const int byMemory = int(std::max<std::size_t>(1, settings_.memoryBudgetBytes / perSlot));
+  // What may be resident: every photograph and every layered photograph's sub-image.
   int slots = std::min({settings_.maxSlices, limits_.maxArrayTextureLayers, byMemory,
-                        std::max(1, int(scene_.photos.size()))});
+                        std::max(1, int(scene_.photos.size() + subImages_.size()))});
   slots = std::max(slots, 1);
   // What binds the slots, for the warning when K is capped by it: only the bounds that hold
   // (the photographs' own count is no bound worth a word), each under the name the user can act on.
@@ -130,6 +139,12 @@ bool FrameBuilder::makeResident(FrameMode mode) {
   std::vector<int> missing;
   std::vector<ibr::LoadRequest> requests;
   for (const auto& im : plan_.images) {
+    if (layeredPhoto(im.photo)) {
+      // Its sub-images instead of the photograph: in memory, installed at once.
+      for (int key : subKeys_[size_t(im.photo)])
+        if (!cache_.pin(key)) installSubImage(key);
+      continue;
+    }
     if (cache_.pin(im.photo)) continue;
     missing.push_back(im.photo);
     requests.push_back({im.photo, &scene_.photos[size_t(im.photo)], im.distance});
@@ -264,7 +279,8 @@ FrameBuilder::DepthMapInputs FrameBuilder::depthMapInputs() const {
 // lens model may have changed).
 void FrameBuilder::invalidateDepthMaps() {
   for (int slot = 0; slot < layout_.slots; ++slot)
-    if (cache_.photoIn(slot) >= 0) slotFrustum_[size_t(slot)] = depthFrustum(cache_.photoIn(slot));
+    if (const int key = cache_.photoIn(slot); key >= 0)
+      slotFrustum_[size_t(slot)] = isSubImage(key) ? subImageDepthFrustum(key) : depthFrustum(key);
   depthScheduler_.markAllDirty();
 }
 
@@ -345,6 +361,15 @@ void FrameBuilder::drawDepthMaps(Frame& f, int debugSlot) {
   std::vector<int> residentSlots;
   std::vector<double> residentPriority;
   for (size_t i = 0; i < f.plan.images.size(); ++i) {
+    if (layeredPhoto(f.plan.images[i].photo)) {
+      // Each resident sub-image's map, at the photograph's priority.
+      for (int key : subKeys_[size_t(f.plan.images[i].photo)])
+        if (const int slot = cache_.slotOf(key); slot >= 0) {
+          residentSlots.push_back(slot);
+          residentPriority.push_back(f.plan.images[i].distance);
+        }
+      continue;
+    }
     if (f.slots[i] < 0) continue;
     residentSlots.push_back(f.slots[i]);
     residentPriority.push_back(f.plan.images[i].distance);
@@ -355,6 +380,13 @@ void FrameBuilder::drawDepthMaps(Frame& f, int debugSlot) {
   f.depthMapQueue = depthScheduler_.next(residentSlots, residentPriority, dmax);
   stats_.depthMapTilesThisFrame = 0;
   auto draw = [&](int slot) {
+    if (const int key = cache_.photoIn(slot); isSubImage(key)) {
+      // A sub-image's peeled depth map: uploaded, not drawn.
+      backend_.uploadDepthMap(slot, subImageDepth(key, slotFrustum_[size_t(slot)]));
+      depthScheduler_.done(slot);
+      ++stats_.depthMapsUploaded;
+      return;
+    }
     const DepthMapJob job = depthMapJob(slot);
     stats_.depthMapTilesThisFrame += job.tiles;
     backend_.drawDepthMap(job);
@@ -405,7 +437,7 @@ void FrameBuilder::streamTerrain(Frame& f, int debugSlot) {
     int missing = 0;
     for (int slot : slots) {
       const int photo = cache_.photoIn(slot);
-      if (photo < 0) continue;
+      if (photo < 0 || isSubImage(photo)) continue;  // a sub-image's map is uploaded, not drawn
       const Camera cam = photoCamera(photo);
       const glm::dmat4 clip = hv::clipFromRender(cam, slotFrustum_[size_t(slot)], scene_.origin);
       TerrainCut c = terrain_->select(cam, tolerance, kPhotographs, &clip);
@@ -456,6 +488,10 @@ void FrameBuilder::packParams(Frame& f) {
   const double biasAbs = depthBiasAbsolute();
   stats_.imagesWaiting = stats_.decodesWaiting = stats_.depthMapsWaiting = 0;
   for (size_t i = 0; i < f.plan.images.size(); ++i) {
+    if (layeredPhoto(f.plan.images[i].photo)) {
+      packLayered(f, f.plan.images[i]);
+      continue;
+    }
     const int slot = f.slots[i];
     if (slot < 0 || (f.blend.occlusion && depthScheduler_.isDirty(slot))) {
       ++stats_.imagesWaiting;
@@ -490,7 +526,8 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   planAndLoad(view, f.blend, mode);
   f.plan = plan_;
   const int debugSlot = prepareDebugPhoto(mode);
-  for (const auto& im : plan_.images) f.slots.push_back(cache_.slotOf(im.photo));
+  for (const auto& im : plan_.images)
+    f.slots.push_back(layeredPhoto(im.photo) ? layeredSlot(im.photo) : cache_.slotOf(im.photo));
   // The view's rectangle: the pinhole rectangle covering the (distorted) view, at the output's
   // pixel density.
   f.rect.distorted = view.distortion && !view.distortion->isIdentity();
@@ -595,9 +632,199 @@ void FrameBuilder::viewPassesDone(const Frame& f, const ViewPassStats& s) {
 PhotoState FrameBuilder::photoState(int photo) const {
   if (photo < 0 || photo >= int(scene_.photos.size())) return PhotoState::Absent;
   if (photoBroken_[size_t(photo)]) return PhotoState::Broken;
+  if (layeredPhoto(photo)) {
+    bool anyResident = false, allResident = true, dirty = false;
+    for (int key : subKeys_[size_t(photo)]) {
+      const int s = cache_.slotOf(key);
+      anyResident = anyResident || s >= 0;
+      allResident = allResident && s >= 0;
+      dirty = dirty || (s >= 0 && depthScheduler_.isDirty(s));
+    }
+    if (!anyResident) return PhotoState::Absent;
+    return !allResident || dirty ? PhotoState::DepthMapPending : PhotoState::Ready;
+  }
   const int slot = cache_.slotOf(photo);
   if (slot < 0) return loader_->isPending(photo) ? PhotoState::Decoding : PhotoState::Absent;
   return depthScheduler_.isDirty(slot) ? PhotoState::DepthMapPending : PhotoState::Ready;
+}
+
+}  // namespace hv::render
+
+namespace hv::render {
+
+// Layered photographs (Layered projective texture maps, 2003, §5; docs/layers.md, "Rendering in
+// the GL renderer").
+void FrameBuilder::setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered) {
+  if (photo < 0 || photo >= int(scene_.photos.size()))
+    throw std::invalid_argument("layered photograph: photo index " + std::to_string(photo) + " out of range (" +
+                                std::to_string(scene_.photos.size()) + " photographs)");
+  if (layered)
+    for (const layers::LayeredSubImage& s : layered->subImages) {
+      const glm::dvec2 size = s.window.size();
+      if (s.rgba.width <= 0 || s.rgba.height <= 0 || s.rgba.channels != 4 || !(size.x > 0.0) || !(size.y > 0.0) ||
+          s.visibilityLayer < 1 || s.visibilityLayer > int(layered->depthMaps.size()))
+        throw std::invalid_argument("layered photograph '" + scene_.photos[size_t(photo)].camera.id +
+                                    "': a sub-image of layer " + std::to_string(s.visibilityLayer) +
+                                    " without RGBA pixels, window or peeled depth map");
+    }
+  layered_[size_t(photo)] = std::move(layered);
+  // Keys again for every photograph: photos.size() and up, each photograph's in blending order.
+  subImages_.clear();
+  for (size_t p = 0; p < scene_.photos.size(); ++p) {
+    subKeys_[p].clear();
+    if (!layered_[p]) continue;
+    std::vector<int> order(layered_[p]->subImages.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return layered_[p]->subImages[size_t(a)].visibilityLayer < layered_[p]->subImages[size_t(b)].visibilityLayer;
+    });
+    for (int i : order) {
+      subKeys_[p].push_back(int(scene_.photos.size() + subImages_.size()));
+      subImages_.push_back({int(p), i});
+    }
+  }
+  // The slots again (a sub-image takes one as a photograph does; the arrays are sized for what may
+  // be resident), which empties them. The naive binding's units are fixed at its first allocation.
+  if (naive()) {
+    cache_.clear();
+    depthScheduler_.markAllDirty();
+  } else {
+    allocateSlots();
+  }
+}
+
+int FrameBuilder::layeredSlot(int photo) const {
+  int first = -1;
+  for (int key : subKeys_[size_t(photo)]) {
+    const int slot = cache_.slotOf(key);
+    if (slot < 0) return -1;
+    if (first < 0) first = slot;
+  }
+  return first;
+}
+
+void FrameBuilder::installSubImage(int key) {
+  const ibr::SlotCache::Grant grant = cache_.acquire(key, true);
+  if (!grant || !grant.isNew) return;  // every slot pinned (the photograph waits), or already there
+  depthScheduler_.markDirty(grant.slot);
+  slotFrustum_[size_t(grant.slot)] = subImageDepthFrustum(key);
+  slotCut_[size_t(grant.slot)].clear();
+  slotCutDrawn_[size_t(grant.slot)].clear();
+  backend_.uploadImage(grant.slot, subImageSlice(key));
+  ++stats_.imagesLoaded;
+}
+
+// The sheared frustum of the sub-image's window (layers::subImageFrustum) with the photograph's
+// depth range.
+hv::PinholeFrustum FrameBuilder::subImageDepthFrustum(int key) const {
+  const SubImageRef& r = subImage(key);
+  const hv::PinholeFrustum whole = depthFrustum(r.photo);
+  const layers::SubImageWindow& w = layered_[size_t(r.photo)]->subImages[size_t(r.index)].window;
+  return layers::subImageFrustum(photoCamera(r.photo), w, whole.near, whole.far);
+}
+
+// The sub-image stretched over the whole slice (so that the slice's uv [0, 1]^2 is the window and
+// its clamp to edge is the sub-image's), premultiplied: each slice texel is the GL_LINEAR lookup
+// of the sub-image's premultiplied texels at its centre (hv::layers::layeredTexel's filter).
+Image8 FrameBuilder::subImageSlice(int key) const {
+  const SubImageRef& r = subImage(key);
+  const Image8& img = layered_[size_t(r.photo)]->subImages[size_t(r.index)].rgba;
+  const int w = layout_.slice.width, h = layout_.slice.height;
+  Image8 out(w, h, 4);
+  auto texel = [&](int x, int y) {
+    x = std::clamp(x, 0, img.width - 1);
+    y = std::clamp(y, 0, img.height - 1);
+    const double a = img.at(x, y, 3) / 255.0;
+    return glm::dvec4(a * img.at(x, y, 0) / 255.0, a * img.at(x, y, 1) / 255.0, a * img.at(x, y, 2) / 255.0, a);
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double fx = (x + 0.5) / w * img.width - 0.5, fy = (y + 0.5) / h * img.height - 0.5;
+      const double x0 = std::floor(fx), y0 = std::floor(fy), tx = fx - x0, ty = fy - y0;
+      const int ix = int(x0), iy = int(y0);
+      const glm::dvec4 v = glm::mix(glm::mix(texel(ix, iy), texel(ix + 1, iy), tx),
+                                    glm::mix(texel(ix, iy + 1), texel(ix + 1, iy + 1), tx), ty);
+      for (int c = 0; c < 4; ++c) out.at(x, y, c) = std::uint8_t(std::lround(std::clamp(v[c], 0.0, 1.0) * 255.0));
+    }
+  return out;
+}
+
+// D_k of the sub-image's layer in the depth maps' encoding over its frustum: at each texel centre
+// (ideal pixel p), the distance D_k gives at distort(p) (bilinear over its texels that hold a
+// surface, texel centres at i + 0.5), turned into depth along the axis (the distance over the
+// length of K^-1 (p, 1)), then (z - near) / (far - near); 1 where D_k holds no surface.
+std::vector<float> FrameBuilder::subImageDepth(int key, const hv::PinholeFrustum& fr) const {
+  const SubImageRef& r = subImage(key);
+  const layers::LayeredPhotograph& L = *layered_[size_t(r.photo)];
+  const layers::PeeledDepthMap& d = L.depthMaps[size_t(L.subImages[size_t(r.index)].visibilityLayer - 1)];
+  const Camera cam = photoCamera(r.photo);
+  const glm::dmat3 camFromPix = cam.camFromPix();
+  const int n = layout_.depthSize;
+  const float belowOne = std::nextafter(1.0f, 0.0f);
+  std::vector<float> out(size_t(n) * size_t(n), 1.0f);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const glm::dvec2 p = fr.pxMin + (glm::dvec2(i, j) + 0.5) / double(n) * (fr.pxMax - fr.pxMin);
+      const glm::dvec2 pd = cam.distort(p);
+      const double fx = pd.x * d.width / cam.width - 0.5, fy = pd.y * d.height / cam.height - 0.5;
+      if (fx < -0.5 || fy < -0.5 || fx > d.width - 0.5 || fy > d.height - 0.5) continue;
+      const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+      const double tx = fx - x0, ty = fy - y0;
+      double sum = 0.0, weight = 0.0;
+      for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx) {
+          const int x = std::clamp(x0 + dx, 0, d.width - 1), y = std::clamp(y0 + dy, 0, d.height - 1);
+          const double v = d.distance[size_t(y) * size_t(d.width) + size_t(x)];
+          const double wgt = (dx ? tx : 1.0 - tx) * (dy ? ty : 1.0 - ty);
+          if (!std::isfinite(v) || wgt <= 0.0) continue;
+          sum += wgt * v;
+          weight += wgt;
+        }
+      if (weight <= 0.0) continue;
+      const double z = (sum / weight) / glm::length(camFromPix * glm::dvec3(p, 1.0));
+      out[size_t(j) * size_t(n) + size_t(i)] = std::clamp(float((z - fr.near) / (fr.far - fr.near)), 0.0f, belowOne);
+    }
+  return out;
+}
+
+// A layered photograph's rows: its sub-images, consecutive, each with its window's uv offset and
+// scale, its layer and the photograph's group, the photograph's weight, date and colour; the
+// tolerance of the two-sided depth test in the bias terms. Every sub-image resident with its map
+// current, or the photograph waits.
+void FrameBuilder::packLayered(Frame& f, const ibr::SelectedImage& selected) {
+  const int photo = selected.photo;
+  const layers::LayeredPhotograph& L = *layered_[size_t(photo)];
+  bool decoding = false, pending = false;
+  for (int key : subKeys_[size_t(photo)]) {
+    const int slot = cache_.slotOf(key);
+    decoding = decoding || slot < 0;
+    pending = pending || (slot >= 0 && depthScheduler_.isDirty(slot));
+  }
+  if (decoding || pending) {
+    ++stats_.imagesWaiting;
+    ++(decoding ? stats_.decodesWaiting : stats_.depthMapsWaiting);
+    return;
+  }
+  const Camera cam = photoCamera(photo);
+  for (int key : subKeys_[size_t(photo)]) {
+    const int slot = cache_.slotOf(key);
+    const layers::LayeredSubImage& sub = L.subImages[size_t(subImage(key).index)];
+    ibr::SliceLayout layout;
+    layout.slice = slot;
+    layout.uvScale = 1.0 / sub.window.size();
+    const ibr::DepthBias tolerance{L.tolerance.metres, L.tolerance.relative};
+    params_.push_back(
+        ibr::makeImageParams(cam, scene_.origin, layout, selected.weight, slotFrustum_[size_t(slot)], tolerance));
+    ibr::ImageParams& im = params_.back();
+    im.photo = photo;
+    im.date = photoDate(scene_.photos[size_t(photo)]);
+    if (settings_.blend.colourCorrection) im.colour = scene_.photos[size_t(photo)].colour;
+    im.uvOffset = sub.window.pxMin;
+    im.layer = sub.visibilityLayer;
+    im.group = photo + 1;
+    f.packedParams.resize(f.packedParams.size() + ibr::kTexelsPerImage * 4);
+    ibr::packImageParams(im, f.packedParams.data() + f.packedParams.size() - ibr::kTexelsPerImage * 4);
+  }
 }
 
 }  // namespace hv::render

@@ -9,6 +9,7 @@
 #include "hv/ibr/depth_scheduler.h"
 #include "hv/ibr/image_loader.h"
 #include "hv/ibr/slot_cache.h"
+#include "hv/layers/layered_texture.h"
 #include "hv/render/backend.h"
 #include "hv/render/frame.h"
 #include "hv/render/terrain_stream.h"
@@ -54,6 +55,12 @@ class FrameBuilder {
   int slotOf(int photo) const { return cache_.slotOf(photo); }
   // The job that draws the depth map of the photograph in `slot` with the current settings.
   DepthMapJob depthMapJob(int slot) const;
+  // Renderer::setLayeredPhotograph: photograph `photo` is expanded into its sub-images when
+  // selected (null: the photograph as it is). Empties the slots.
+  void setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered);
+  // The cache keys of a layered photograph's sub-images, in blending order (visibility layer, then
+  // the file's order); empty for a photograph as it is. Keys are photos.size() and up.
+  const std::vector<int>& subImageKeys(int photo) const { return subKeys_[size_t(photo)]; }
 
  private:
   // What the photographs' depth maps are drawn from besides the scene itself: when it changes
@@ -69,6 +76,22 @@ class FrameBuilder {
     bool operator==(const DepthMapInputs&) const = default;
   };
 
+  // A layered photograph's sub-image (Layered projective texture maps, 2003, §5): which
+  // photograph, which of its sub-images. Resident under its own key in the slot cache, its image
+  // resampled into the slot and its peeled depth map D_k uploaded (never drawn).
+  struct SubImageRef {
+    int photo = -1;
+    int index = -1;  // into LayeredPhotograph::subImages
+  };
+  bool isSubImage(int key) const { return key >= int(scene_.photos.size()); }
+  const SubImageRef& subImage(int key) const { return subImages_[size_t(key) - scene_.photos.size()]; }
+  bool layeredPhoto(int photo) const { return !subKeys_[size_t(photo)].empty(); }
+  void installSubImage(int key);
+  hv::PinholeFrustum subImageDepthFrustum(int key) const;
+  std::vector<float> subImageDepth(int key, const hv::PinholeFrustum& frustum) const;
+  Image8 subImageSlice(int key) const;
+  // The slot of each sub-image of a layered photograph when all are resident, else -1.
+  int layeredSlot(int photo) const;
   void buildGeometry();
   void initPoints();
   void resolvePointFilter();
@@ -83,6 +106,7 @@ class FrameBuilder {
   std::vector<std::uint64_t> visibleTerrain(const std::vector<TerrainNodeId>& cut,
                                             const glm::dmat4& clipFromRender) const;
   void packParams(Frame& frame);
+  void packLayered(Frame& frame, const ibr::SelectedImage& selected);
   void trafficOfFrame(Frame& frame);
   void applyLiveSettings();
   void invalidateDepthMaps();
@@ -141,6 +165,11 @@ class FrameBuilder {
   int terrainMissing_ = 0;
 
   ibr::FramePlan plan_;
+  // Layered photographs (setLayeredPhotograph): per photo its layers (null: none) and its
+  // sub-images' keys; per key - photos.size(), the sub-image.
+  std::vector<std::shared_ptr<const layers::LayeredPhotograph>> layered_;
+  std::vector<std::vector<int>> subKeys_;
+  std::vector<SubImageRef> subImages_;
   std::vector<ibr::ImageParams> params_;
   RenderStats stats_;
   bool debugWaiting_ = false;  // the depth-map view's photograph is still being decoded

@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <numeric>
 
 namespace hv::render {
@@ -39,7 +41,8 @@ class FrameBuilderTest : public ::testing::Test {
     for (int i = 0; i < kPhotos; ++i) {
       const double a = 0.6 * i, r = 30.0 + 7.0 * i;
       Photo p;
-      p.camera = lookAtCamera("p" + std::to_string(i), {r * std::cos(a), r * std::sin(a), 20.0}, {0, 0, 0}, 32, 24, 30.0);
+      p.camera =
+          lookAtCamera("p" + std::to_string(i), {r * std::cos(a), r * std::sin(a), 20.0}, {0, 0, 0}, 32, 24, 30.0);
       Image8 im(32, 24, 3, std::uint8_t(20 * i));
       p.imagePath = (dir_ / (p.camera.id + ".png")).string();
       writePng(p.imagePath, im);
@@ -488,6 +491,106 @@ TEST_F(FrameBuilderTest, StreamedTerrainRedrawsDepthMapsOnlyWhenTilesChange) {
   for (int i = 0; i < 3; ++i) builder.build(view(), FrameMode::Progressive, false);
   EXPECT_EQ(backend_.depthMaps.size(), maps) << "nothing arrived: no depth map is redrawn";
   EXPECT_TRUE(diag_.ok());
+}
+
+}  // namespace
+}  // namespace hv::render
+
+namespace hv::render {
+namespace {
+
+// A layered photograph (Layered projective texture maps, 2003, §5): the builder expands it into
+// its sub-images, each in a slot of its own with its peeled depth map uploaded (not drawn), packed
+// consecutively with the photograph's group and weight, its window's uv offset and scale.
+TEST_F(FrameBuilderTest, LayeredPhotographExpandsIntoItsSubImages) {
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  const Camera& cam = scene_.photos[3].camera;  // 32 x 24
+  auto layered = std::make_shared<layers::LayeredPhotograph>();
+  layered->camera = cam;
+  // D_1: every ray meets a surface 50 m away; D_2: nothing (+inf) but the left half at 80 m.
+  for (int k = 1; k <= 2; ++k) {
+    layers::PeeledDepthMap d;
+    d.layer = k;
+    d.width = 16;
+    d.height = 12;
+    for (int y = 0; y < d.height; ++y)
+      for (int x = 0; x < d.width; ++x)
+        d.distance.push_back(k == 1 ? 50.0f : x < 8 ? 80.0f : std::numeric_limits<float>::infinity());
+    layered->depthMaps.push_back(d);
+  }
+  // In the file's order: layer 2 first, so the builder must sort them.
+  layers::LayeredSubImage s2;
+  s2.visibilityLayer = 2;
+  s2.window = {{8.0, 6.0}, {28.0, 18.0}};
+  s2.rgba = Image8(10, 6, 4, 255);
+  layers::LayeredSubImage s1;
+  s1.visibilityLayer = 1;
+  s1.window = {{0.0, 0.0}, {32.0, 24.0}};
+  s1.rgba = Image8(8, 6, 4, 128);
+  layered->subImages = {s2, s1};
+  builder.setLayeredPhotograph(3, layered);
+  EXPECT_THROW(builder.setLayeredPhotograph(kPhotos, layered), std::invalid_argument);
+
+  const Frame f = builder.build(view(), FrameMode::Batch, false);
+  ASSERT_EQ(f.params.size(), size_t(kPhotos + 1));
+  EXPECT_EQ(f.packedParams.size(), size_t(kPhotos + 1) * ibr::kTexelsPerImage * 4);
+  // Nine photographs decoded and drawn, two sub-images uploaded with their maps.
+  EXPECT_EQ(backend_.uploads.size(), size_t(kPhotos + 1));
+  EXPECT_EQ(backend_.depthMaps.size(), size_t(kPhotos - 1));
+  for (const DepthMapJob& job : backend_.depthMaps) EXPECT_NE(job.photo, 3);
+  ASSERT_EQ(backend_.depthUploads.size(), 2u);
+  EXPECT_EQ(builder.stats().depthMapsUploaded, 2);
+  EXPECT_TRUE(builder.converged());
+  EXPECT_EQ(builder.photoState(3), PhotoState::Ready);
+
+  // The sub-images in the plan's place of photograph 3, consecutive, layer 1 first.
+  size_t first = 0;
+  while (first < f.params.size() && f.params[first].photo != 3) ++first;
+  ASSERT_LT(first + 1, f.params.size());
+  const double weight = f.plan.images[first].weight;  // photographs before it map one to one
+  EXPECT_EQ(f.plan.images[first].photo, 3);
+  const layers::LayeredSubImage* expected[2] = {&s1, &s2};
+  for (size_t j = 0; j < 2; ++j) {
+    const ibr::ImageParams& p = f.params[first + j];
+    EXPECT_EQ(p.photo, 3);
+    EXPECT_EQ(p.group, 4);
+    EXPECT_EQ(p.layer, expected[j]->visibilityLayer);
+    EXPECT_EQ(p.weight, weight);
+    EXPECT_EQ(p.uvOffset, expected[j]->window.pxMin);
+    EXPECT_DOUBLE_EQ(p.layout.uvScale.x, 1.0 / expected[j]->window.size().x);
+    EXPECT_DOUBLE_EQ(p.layout.uvScale.y, 1.0 / expected[j]->window.size().y);
+    EXPECT_DOUBLE_EQ(p.bias.absolute, 0.05);  // the two-sided test's tolerance
+    EXPECT_DOUBLE_EQ(p.bias.relative, 2e-3);
+    // The slot's map: D_k over the sub-image's frustum, depth along the axis in [0, 1].
+    const NullBackend::DepthUpload* up = nullptr;
+    for (const auto& u : backend_.depthUploads)
+      if (u.slot == p.layout.slice) up = &u;
+    ASSERT_NE(up, nullptr);
+    const int n = settings_.depthSize;
+    ASSERT_EQ(up->depth.size(), size_t(n) * size_t(n));
+    const PinholeFrustum& fr = p.depth;
+    // The frustum is the window's (no distortion: the window itself).
+    EXPECT_NEAR(fr.pxMin.x, expected[j]->window.pxMin.x, 1e-9);
+    EXPECT_NEAR(fr.pxMax.y, expected[j]->window.pxMax.y, 1e-9);
+    for (int t : {0, 5, n / 2, n - 1}) {
+      const glm::dvec2 px = fr.pxMin + (glm::dvec2(t, n - 1 - t) + 0.5) / double(n) * (fr.pxMax - fr.pxMin);
+      const double x = (px.x - cam.principal.x) / cam.focal.x, y = (px.y - cam.principal.y) / cam.focal.y;
+      const double distance = j == 0 ? 50.0 : px.x < 15.0 ? 80.0 : px.x > 17.0 ? -1.0 : 0.0;
+      const float stored = up->depth[size_t(n - 1 - t) * size_t(n) + size_t(t)];
+      if (distance < 0.0) {
+        EXPECT_EQ(stored, 1.0f) << "no surface of layers >= 2 there";
+      } else if (distance > 0.0) {
+        const double z = distance / std::sqrt(1.0 + x * x + y * y);
+        EXPECT_NEAR(stored, (z - fr.near) / (fr.far - fr.near), 1e-6) << "texel " << t << " of sub-image " << j;
+      }
+    }
+  }
+
+  // Without its layers the photograph is decoded and drawn again.
+  builder.setLayeredPhotograph(3, nullptr);
+  const Frame g = builder.build(view(), FrameMode::Batch, false);
+  EXPECT_EQ(g.params.size(), size_t(kPhotos));
+  for (const ibr::ImageParams& p : g.params) EXPECT_EQ(p.layer, 0);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@ class NullBackend final : public Backend {
   void allocateSlots(const SlotLayout& layout) override { layout_ = layout; }
   void uploadImage(int slot, const Image8& slice) override { uploads.push_back({slot, slice.width, slice.height}); }
   void drawDepthMap(const DepthMapJob& job) override { depthMaps.push_back(job); }
+  void uploadDepthMap(int slot, const std::vector<float>& depth) override { depthUploads.push_back({slot, depth}); }
   void finishDepthMaps() override { ++finishes; }
   RenderOutput runViewPasses(const Frame& frame, ViewPassStats& stats) override;
   unsigned int colorTexture() const override { return 0; }
@@ -39,12 +40,17 @@ class NullBackend final : public Backend {
   // What was asked, in order.
   std::vector<Upload> uploads;
   std::vector<DepthMapJob> depthMaps;
-  std::vector<Frame> frames;  // one per runViewPasses
+  struct DepthUpload {
+    int slot = -1;
+    std::vector<float> depth;
+  };
+  std::vector<DepthUpload> depthUploads;  // maps filled by uploadDepthMap
+  std::vector<Frame> frames;              // one per runViewPasses
   int finishes = 0;
-  int triangles = 0;          // uploaded geometry
-  GeometryBuffers geometry;   // as uploaded
+  int triangles = 0;                          // uploaded geometry
+  GeometryBuffers geometry;                   // as uploaded
   std::map<std::uint64_t, int> terrainTiles;  // streamed terrain tiles held: id -> triangles
-  std::size_t points = 0;     // uploaded point vertices
+  std::size_t points = 0;                     // uploaded point vertices
   const SlotLayout& layout() const { return layout_; }
 
  private:

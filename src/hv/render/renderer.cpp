@@ -58,6 +58,9 @@ RenderOutput Renderer::render(const Camera& view, bool withCounts, FrameMode mod
 }
 bool Renderer::converged() const { return impl_->builder.converged(); }
 void Renderer::preload(const Camera& view) { impl_->builder.preload(view); }
+void Renderer::setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered) {
+  impl_->builder.setLayeredPhotograph(photo, std::move(layered));
+}
 const ibr::FramePlan& Renderer::lastPlan() const { return impl_->builder.lastPlan(); }
 const std::vector<ibr::ImageParams>& Renderer::lastImageParams() const { return impl_->builder.lastImageParams(); }
 const RenderSettings& Renderer::settings() const { return impl_->settings; }

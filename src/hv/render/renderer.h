@@ -5,10 +5,11 @@
 #pragma once
 
 #include "hv/ibr/frame_plan.h"
-#include "hv/render/settings.h"
 #include "hv/ibr/selection.h"
 #include "hv/ibr/slice_image.h"
 #include "hv/image/image.h"
+#include "hv/layers/layered_texture.h"
+#include "hv/render/settings.h"
 #include "hv/scene/point_colors.h"
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
@@ -27,28 +28,29 @@ enum class FrameMode {
 };
 
 struct RenderOutput {
-  Image8 rgba;           // alpha = 255 where some image contributed (coverage)
-  Image16 counts;        // contributing images per pixel (when asked)
-  Image16 loopLengths;   // images each pixel's shading loop visited (when counts are asked)
-  Image16 debugValues;   // the debug view's raw values (RenderSettings::debug), when read back
+  Image8 rgba;          // alpha = 255 where some image contributed (coverage)
+  Image16 counts;       // contributing images per pixel (when asked)
+  Image16 loopLengths;  // images each pixel's shading loop visited (when counts are asked)
+  Image16 debugValues;  // the debug view's raw values (RenderSettings::debug), when read back
 };
 
 struct RenderStats {
-  int depthMapsRendered = 0;       // since construction
+  int depthMapsRendered = 0;  // since construction
   int depthMapsThisFrame = 0;
-  int imagesWaiting = 0;           // selected but left out of the last frame (depth map not current)
-  double meanTileList = 0.0;       // per-tile culling: mean and longest list of the last frame
+  int depthMapsUploaded = 0;  // layered photographs' peeled depth maps uploaded (not drawn), since construction
+  int imagesWaiting = 0;      // selected but left out of the last frame (depth map not current)
+  double meanTileList = 0.0;  // per-tile culling: mean and longest list of the last frame
   int maxTileList = 0;
-  std::size_t sliceBytes = 0;      // GPU memory of the image and depth-map arrays (fixed at start)
-  std::size_t decodePeakBytes = 0; // most memory the image loader ever held
+  std::size_t sliceBytes = 0;       // GPU memory of the image and depth-map arrays (fixed at start)
+  std::size_t decodePeakBytes = 0;  // most memory the image loader ever held
   int imagesLoaded = 0;
   double lastFrameMs = 0.0;
-  std::uint64_t pointsDrawn = 0;   // sprites of the last frame's view (not the depth maps)
-  int mat3Images = 0;              // SpriteForm::Mat3: images the linked program carries
+  std::uint64_t pointsDrawn = 0;  // sprites of the last frame's view (not the depth maps)
+  int mat3Images = 0;             // SpriteForm::Mat3: images the linked program carries
   // Why the last frame's images wait (imagesWaiting = decodesWaiting + depthMapsWaiting).
-  int decodesWaiting = 0;          // selected, not resident yet (decoding or queued)
-  int depthMapsWaiting = 0;        // resident, depth map not current
-  int residentImages = 0;          // photographs in slots, selected or not
+  int decodesWaiting = 0;    // selected, not resident yet (decoding or queued)
+  int depthMapsWaiting = 0;  // resident, depth map not current
+  int residentImages = 0;    // photographs in slots, selected or not
   // Debug views: debug.photo's index among the last frame's images (-1: not among them), its slot
   // (-1: not resident) and, for the DepthMap view, the depths its colours span (scene units).
   int debugImage = -1;
@@ -109,6 +111,13 @@ class Renderer {
   // Makes the images a view needs resident (waiting for their decodes) without rendering anything:
   // a viewer's start-up, or a test of the depth-map schedule alone.
   void preload(const Camera& view);
+  // Textures photograph `photo` with its edited layers (Layered projective texture maps, 2003, §5;
+  // hv/layers/layered_texture.h) instead of its image: when selected, it is expanded into its
+  // sub-images, each in an image slot with its peeled depth map D_k uploaded into the slot's depth
+  // map, blended as one photograph (docs/layers.md). Null: the photograph as it is again. The
+  // slots are emptied (every photograph is made resident again). Throws std::invalid_argument for
+  // a photo index out of range or a sub-image without pixels.
+  void setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered);
 
   const ibr::FramePlan& lastPlan() const;
   // The per-image parameters of the last frame, in the order the shader saw them.
@@ -122,9 +131,9 @@ class Renderer {
   int slotOf(int photo) const;  // -1 when not resident
   // The GL name of the RGBA8 texture that holds the last frame's colour (the same pixels as
   // RenderOutput::rgba, alpha = coverage), stored top row first like every offscreen target
-  // (docs/conventions.md), so a window presenting it flips it. With a debug view it holds that view. Its size is the last view's; it
-  // stays valid until the next render() (which may reallocate it for another size). 0 before the
-  // first frame.
+  // (docs/conventions.md), so a window presenting it flips it. With a debug view it holds that view. Its size is the
+  // last view's; it stays valid until the next render() (which may reallocate it for another size). 0 before the first
+  // frame.
   unsigned int colorTexture() const;
 
  private:

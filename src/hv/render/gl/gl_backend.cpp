@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace hv::render::gl {
 
@@ -184,6 +185,21 @@ void GlBackend::uploadImage(int slot, const Image8& slice) {
                       GL_UNSIGNED_BYTE, chain[l].data.data());
   }
   checkGlError("image upload");
+}
+
+void GlBackend::uploadDepthMap(int slot, const std::vector<float>& depth) {
+  const int n = layout_.depthSize;
+  if (depth.size() != std::size_t(n) * std::size_t(n))
+    throw std::invalid_argument("depth map upload: " + std::to_string(depth.size()) + " values for a " +
+                                std::to_string(n) + "^2 map");
+  if (naive()) {
+    glBindTexture(GL_TEXTURE_2D, naiveDepths_[size_t(slot)].id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  } else {
+    glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray_.id());
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, slot, n, n, 1, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  }
+  checkGlError("depth map upload");
 }
 
 void GlBackend::finishDepthMaps() { glFinish(); }

@@ -66,6 +66,7 @@ class GlBackend final : public Backend {
   void allocateSlots(const SlotLayout& layout) override;
   void uploadImage(int slot, const Image8& slice) override;
   void drawDepthMap(const DepthMapJob& job) override;
+  void uploadDepthMap(int slot, const std::vector<float>& depth) override;
   void finishDepthMaps() override;
   RenderOutput runViewPasses(const Frame& frame, ViewPassStats& stats) override;
   unsigned int colorTexture() const override { return viewColor_.id(); }
@@ -80,8 +81,8 @@ class GlBackend final : public Backend {
   void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
   void viewDepthPass(const Frame& f);
   // points_pass.cpp
-  void drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam,
-                  const hv::PinholeFrustum& fr, glm::ivec2 size, glm::dvec3 centerRender);
+  void drawPoints(const PointProgram& program, const PointPass& pass, const Camera& cam, const hv::PinholeFrustum& fr,
+                  glm::ivec2 size, glm::dvec3 centerRender);
   void uploadPointParams(const Frame& f, const glm::dmat3& viewM);
   void viewPointsPass(const Frame& f);
   // tile_pass.cpp
