@@ -114,7 +114,8 @@ function(hv_define_modules)
             PRIVATE_EXTERNAL zip pugixml json)
   hv_module(eval DIRS eval DEPS camera image render scene util PRIVATE_DEPS image_native render_gl
             PRIVATE_EXTERNAL json)
-  hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl viewer
+  hv_module(session DIRS session DEPS gpu render render_gl scene util PRIVATE_DEPS camera io io_native gpu_egl layers
+            layers_native viewer
             PRIVATE_EXTERNAL cli11 stb json)
   hv_module(demo DIRS demo DEPS camera image scene scene_native PRIVATE_DEPS image_native io io_native
             PRIVATE_EXTERNAL json gdal)

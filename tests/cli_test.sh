@@ -305,6 +305,29 @@ expect_out "layers export: unknown photograph" "no photograph with id 'no-such-p
 run layers-size layers export "$city/scene.json" --image "$layer_id" "$DIR/layers-x.ora" --size 160x160
 expect_rc "layers export: another aspect ratio" 1
 expect_out "layers export: another aspect ratio" "aspect ratio"
+# The exported file named by scene.json's "layers" textures the photograph in render; a file that is
+# not OpenRaster is reported, naming it, and the photograph renders as itself.
+python3 - "$city/scene.json" "$city/scene-layers.json" "$layer_id" "$DIR/layers.ora" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["layers"] = {sys.argv[3]: sys.argv[4]}
+json.dump(scene, open(sys.argv[2], "w"))
+PY
+HV_LOG=info run layers-render render "$city/scene-layers.json" --camera "$layer_id" --out "$DIR/rlayers" --size 160x120
+expect_rc "render with edited layers" 0
+expect_out "render with edited layers" "layers: photograph '$layer_id' textured with [0-9]+ edited sub-image"
+check "render with edited layers: the view written" test -s "$DIR/rlayers/$layer_id.png"
+echo "not a zip" > "$DIR/layers-bad.ora"
+python3 - "$city/scene.json" "$city/scene-layers-bad.json" "$layer_id" "$DIR/layers-bad.ora" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["layers"] = {sys.argv[3]: sys.argv[4]}
+json.dump(scene, open(sys.argv[2], "w"))
+PY
+run layers-bad render "$city/scene-layers-bad.json" --camera "$layer_id" --out "$DIR/rlayersbad" --size 160x120
+expect_rc "render with a broken layers file" 3
+expect_out "render with a broken layers file" "layers-bad.ora.*layers of photograph '$layer_id' left out"
+check "broken layers file: the view still written" test -s "$DIR/rlayersbad/$layer_id.png"
 
 # Colour corrections (`histoview harmonize`); a bad entry is reported (file, entry, field) and the
 # rest renders with the others' corrections.

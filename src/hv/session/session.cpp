@@ -4,6 +4,7 @@
 #include "hv/scene/robust_extent.h"
 #include "hv/session/outputs.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/layers/native/layer_import.h"
 #include "hv/render/settings_schema.h"
 #include "hv/util/log.h"
 
@@ -12,6 +13,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <new>
 #include <iostream>
 #include <sstream>
@@ -273,6 +276,32 @@ std::string timeWindowSelection(const Scene& scene, const ibr::BlendSettings& bl
          scene.path + " (" + dates + "): the views show the geometry untextured";
 }
 
+namespace {
+
+// The photographs' edited layers (scene.json "layers", docs/layers.md): each file read back and
+// its visibility layers peeled again at the file's size with the export's default settings, then
+// given to the renderer, which textures each sub-image onto its own layer's surfaces. A file that
+// cannot be used is reported (its path, why) and the photograph renders as itself.
+void applyLayers(const Scene& scene, render::Renderer& renderer, Diagnostics& diag) {
+  for (const auto& [id, path] : layers::readLayerFiles(scene, diag)) {
+    const auto it = std::find_if(scene.photos.begin(), scene.photos.end(),
+                                 [&](const Photo& p) { return p.camera.id == id; });
+    if (it == scene.photos.end()) continue;  // readLayerFiles named it
+    const std::size_t photo = std::size_t(it - scene.photos.begin());
+    try {
+      const layers::ImportedLayers in = layers::importLayers(path, it->camera);
+      renderer.setLayeredPhotograph(int(photo), std::make_shared<const layers::LayeredPhotograph>(layers::layeredPhotograph(
+                                                    scene, photo, in, layers::LayerExportSettings{}, diag)));
+      log::info("layers: photograph '" + id + "' textured with " + std::to_string(in.subImages.size()) +
+              " edited sub-image(s) of " + path);
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (layers of photograph '" + id + "' left out; it renders as itself)");
+    }
+  }
+}
+
+}  // namespace
+
 std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
                                      const std::function<std::unique_ptr<gpu::Context>()>& makeContext) {
   const render::RenderSettings settings = renderSettings(o);  // bad option values fail before loading
@@ -293,6 +322,7 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
                              " input item(s) would be left out (named above); nothing rendered");
   session->context = makeContext ? makeContext() : gpu::createHeadlessContext();
   session->renderer = std::make_unique<render::Renderer>(session->scene, settings, diag);
+  applyLayers(session->scene, *session->renderer, diag);
   return session;
 }
 
