@@ -42,50 +42,7 @@ unset HV_NO_CACHE HV_CACHE_MAX_MB
 export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
 RUN_LIMIT=60
 
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok    $*"; }
-fail() { failed=$((failed + 1)); echo "FAIL  $*"; }
-check() {
-  local what=$1; shift
-  if "$@"; then pass "$what"; else fail "$what"; fi
-}
-
-city=$DIR/city
-proxy_pid=
-cleanup() {
-  [[ -n $proxy_pid ]] && kill "$proxy_pid" 2>/dev/null && wait "$proxy_pid" 2>/dev/null
-  "$ROOT/tools/services.sh" down "$city" >/dev/null 2>&1
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-
-run() {
-  local name=$1; shift
-  local t0=$SECONDS
-  timeout -k 5 "$RUN_LIMIT" "$HV" "$@" >"$DIR/$name.out" 2>&1
-  rc=$?
-  secs=$((SECONDS - t0))
-  out=$DIR/$name.out
-}
-expect_clean() {
-  local name=$1 want=$2 ok=1
-  if ((rc == 124 || rc == 137)); then ok=0
-  elif ((rc >= 128)) || grep -qE "Segmentation|AddressSanitizer|runtime error:|terminate called|Aborted" "$out"; then ok=0
-  elif [[ $want != any ]] && ((rc != want)); then ok=0
-  fi
-  if ((ok)); then pass "$name: exit code $rc in ${secs}s"; else
-    fail "$name: exit code $rc after ${secs}s (expected $want, no hang, no signal); output:"
-    sed 's/^/      /' "$out" | tail -15
-  fi
-}
-expect_out() {
-  if grep -qE -- "$2" "$out"; then pass "$1: output mentions /$2/"; else
-    fail "$1: output lacks /$2/; output:"
-    sed 's/^/      /' "$out" | tail -15
-  fi
-}
-free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+source "$ROOT/tests/services/harness.sh"
 
 # --- the city, its photographs as pyramidal TIFFs, the stack
 run demo demo --out "$DIR" --generate-only --buildings 6 --photos 6 --views 2

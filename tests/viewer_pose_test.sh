@@ -16,22 +16,7 @@ set -uo pipefail
 HV=${1:?usage: viewer_pose_test.sh path/to/histoview [scratch-dir]}
 HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-viewer-pose-test.XXXXXX")}
-export HV_LOG=${HV_LOG:-error}
-
-if ! command -v xvfb-run >/dev/null; then
-  echo "SKIPPED: xvfb-run is not installed (Debian: xvfb; tools/install-deps.sh installs it)"
-  exit 77
-fi
-if "$HV" view --help 2>&1 | grep -q "not in this build"; then
-  echo "SKIPPED: this histoview was built without the viewer (GLFW and Dear ImGui not found)"
-  exit 77
-fi
-rm -rf "$DIR"
-mkdir -p "$DIR"
-
-"$HV" demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3 >"$DIR/demo.out" 2>&1 ||
-  { echo "FAIL: demo generation"; cat "$DIR/demo.out"; exit 1; }
-city=$DIR/city
+source "$(dirname "$0")/viewer_common.sh"
 photo=p0001
 
 # wrong.json: the scene with the photograph's centre moved; truth.json: its true camera as a view;

@@ -20,22 +20,7 @@ set -uo pipefail
 HV=${1:?usage: viewer_test.sh path/to/histoview [scratch-dir]}
 HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-viewer-test.XXXXXX")}
-export HV_LOG=${HV_LOG:-error}
-
-if ! command -v xvfb-run >/dev/null; then
-  echo "SKIPPED: xvfb-run is not installed (Debian: xvfb; tools/install-deps.sh installs it)"
-  exit 77
-fi
-if "$HV" view --help 2>&1 | grep -q "not in this build"; then
-  echo "SKIPPED: this histoview was built without the viewer (GLFW and Dear ImGui not found)"
-  exit 77
-fi
-rm -rf "$DIR"
-mkdir -p "$DIR"
-
-"$HV" demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3 >"$DIR/demo.out" 2>&1 ||
-  { echo "FAIL: demo generation"; cat "$DIR/demo.out"; exit 1; }
-city=$DIR/city
+source "$(dirname "$0")/viewer_common.sh"
 
 # The held-out view, a window of its aspect ratio (320 pixels wide), and the photograph nearest to
 # it (among the frame's images, so its weight view is not empty).
