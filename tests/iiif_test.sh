@@ -110,11 +110,15 @@ print("  PSNR per view:", ", ".join(f'{v["view"]} {db(v):.2f} dB' for v in views
 sys.exit(0 if views and all(db(v) >= float(sys.argv[2]) for v in views) else 1)
 PY
 }
-# lighttpd writes its access log in batches (about once a second): a check of it waits for the
-# log to settle first.
-settle() { sleep 1.5; }
-logged() { settle; grep -q "$1" "$state/access.log"; }
-requests() { settle; grep -c "$1" "$state/access.log"; }
+# lighttpd buffers its access log; SIGHUP (its log rotation) writes the buffer out. A check of the
+# log first asks for that, then looks for up to 10 s.
+flush_log() { kill -HUP "$(cat "$state/lighttpd.pid")" 2>/dev/null; sleep 0.5; }
+logged() {
+  flush_log
+  for _ in $(seq 20); do grep -q "$1" "$state/access.log" && return 0; sleep 0.5; done
+  return 1
+}
+requests() { flush_log; grep -c "$1" "$state/access.log"; }
 run eval-iiif eval "$city/iiif.json" --views "$city/views.json" --truth "$DIR/files" --k 4 --json "$DIR/eval-iiif.json"
 expect_clean eval-iiif 0
 check "IIIF: the views as from the files (PSNR >= 30 dB; JPEG re-encoded by iipsrv)" psnr "$DIR/eval-iiif.json" 30
