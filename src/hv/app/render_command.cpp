@@ -89,6 +89,7 @@ void printTilesAndMemory(const Scene& scene) {
               << b.selection << ")";
   else
     std::cout << "none";
+  if (b.streamed) std::cout << "; the renderer streams all " << b.streamed << " per view";
   std::cout << "\n";
   if (!b.note.empty()) std::cout << "  note: buildings: " << b.note << "\n";
 

@@ -52,12 +52,16 @@ class Backend {
   virtual BackendLimits limits() const = 0;
 
   virtual void uploadGeometry(const GeometryBuffers& geometry) = 0;
-  // A terrain tile streamed per view (render/terrain_stream.h), in buffers of its own
-  // (GeometryBuffers' vertex layout), drawn by the frames and depth-map jobs that list its id
-  // after their index ranges; released when evicted.
-  virtual void uploadTerrainTile(std::uint64_t id, const std::vector<float>& vertices,
+  // A tile streamed per view (terrain: render/terrain_stream.h; buildings, ids with
+  // kBuildingTileId set: render/building_stream.h), in buffers of its own (GeometryBuffers' vertex
+  // layout), drawn by the frames and depth-map jobs that list its id after their index ranges;
+  // released when evicted.
+  virtual void uploadStreamedTile(std::uint64_t id, const std::vector<float>& vertices,
                                  const std::vector<std::uint32_t>& indices) = 0;
-  virtual void releaseTerrainTile(std::uint64_t id) = 0;
+  virtual void releaseStreamedTile(std::uint64_t id) = 0;
+  // Replaces the building validity texels (GeometryBuffers::validity's layout): streamed building
+  // tiles bring their buildings' dates with them.
+  virtual void uploadValidity(const std::vector<float>& validity, int width, int rows) = 0;
   // The point buffer, in chunk order, and the point programs. Throws when no program links.
   virtual PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) = 0;
   // Allocates the slots' stores (and, for the naive binding, the program that samples them).

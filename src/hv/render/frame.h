@@ -23,6 +23,11 @@ namespace hv::render {
 // The geometry layers, in the order the geometry buffer holds them (one index buffer).
 enum Layer { kLayerTerrain, kLayerBuildings, kLayerMesh, kLayerCount };
 
+// Streamed tiles share one id space (Backend::uploadStreamedTile): a terrain node's id
+// (TerrainQuadtree::makeId, whose level byte never reaches 128), or a building tile's index with
+// this bit set.
+constexpr std::uint64_t kBuildingTileId = std::uint64_t(1) << 63;
+
 // Index range of one layer in the index buffer, or of one photograph's lines in the frustum buffer.
 struct DrawRange {
   int first = 0, count = 0;
@@ -88,9 +93,9 @@ struct DepthMapJob {
   // The index ranges to draw: the tiles of those layers that its frustum may see (merged).
   std::vector<DrawRange> draws;
   int tiles = 0;                  // the tiles in `draws`
-  // Streamed terrain tiles to draw after `draws` (Backend::uploadTerrainTile ids): the photograph's
-  // own cut (render/terrain_stream.h), those of its tiles its frustum may see.
-  std::vector<std::uint64_t> terrainTiles;
+  // Streamed tiles to draw after `draws` (Backend::uploadStreamedTile ids): the photograph's own
+  // cuts (render/terrain_stream.h, render/building_stream.h), those of their tiles its frustum may see.
+  std::vector<std::uint64_t> streamedTiles;
   bool withPoints = false;        // non-transient points refine the occlusion (2016 §4.2, 2022 §2.4)
   PointPass points;
 };
@@ -172,7 +177,7 @@ struct Frame {
   ViewRect rect;
   std::array<bool, kLayerCount> layers{true, true, true};
   std::vector<DrawRange> draws;   // the view's geometry: the tiles its frustum may see (merged)
-  std::vector<std::uint64_t> terrainTiles;  // streamed terrain tiles of the view's cut it may see
+  std::vector<std::uint64_t> streamedTiles;  // streamed tiles of the view's cuts it may see
   ViewPoints points;
   bool culling = false;           // per-tile image lists (ibr/tile_culling.h)
   int tileSize = 16;

@@ -43,6 +43,10 @@ FrameBuilder::FrameBuilder(const Scene& scene, const RenderSettings& settings, D
     terrain_ =
         std::make_unique<TerrainStream>(*scene_.terrainTiles, scene_.origin, std::max(0, settings_.geometryThreads),
                                         std::max<std::size_t>(1, settings_.geometryMemoryBytes));
+  if (scene_.buildingTiles)
+    buildings_ = std::make_unique<BuildingStream>(scene_.buildingTiles, scene_.origin,
+                                                  std::max(0, settings_.geometryThreads),
+                                                  std::max<std::size_t>(1, settings_.geometryMemoryBytes));
   if (settings_.points.enabled) initPoints();
   allocateSlots();
   photoBroken_.assign(scene_.photos.size(), false);
@@ -104,6 +108,8 @@ void FrameBuilder::allocateSlots() {
   slotFrustum_.assign(size_t(slots), {});
   slotCut_.assign(size_t(slots), {});
   slotCutDrawn_.assign(size_t(slots), {});
+  slotBuildingCut_.assign(size_t(slots), {});
+  slotBuildingCutDrawn_.assign(size_t(slots), {});
   backend_.allocateSlots(layout_);
   log::debug("slices: " + std::to_string(slots) + " of " + std::to_string(w) + "x" + std::to_string(h) +
              ", depth maps " + std::to_string(layout_.depthSize) + "^2");
@@ -344,10 +350,12 @@ DepthMapJob FrameBuilder::depthMapJob(int slot) const {
   job.pushBack = meshPushBack();
   job.layers = {settings_.layers.terrain, settings_.layers.buildings, settings_.layers.mesh};
   job.draws = visibleRanges(tiles_, job.layers, job.clipFromRender, settings_.geometryCulling, &job.tiles);
-  if (terrain_ && job.layers[kLayerTerrain]) {
-    job.terrainTiles = visibleTerrain(slotCut_[size_t(slot)], job.clipFromRender);
-    job.tiles += int(job.terrainTiles.size());
+  if (terrain_ && job.layers[kLayerTerrain]) job.streamedTiles = visibleTerrain(slotCut_[size_t(slot)], job.clipFromRender);
+  if (buildings_ && job.layers[kLayerBuildings]) {
+    const std::vector<std::uint64_t> b = visibleBuildings(slotBuildingCut_[size_t(slot)], job.clipFromRender);
+    job.streamedTiles.insert(job.streamedTiles.end(), b.begin(), b.end());
   }
+  job.tiles += int(job.streamedTiles.size());
   job.size = layout_.depthSize;
   job.withPoints = pointsActive() && pointsInDepthMaps_;
   // Transient points never occlude.
@@ -392,6 +400,7 @@ void FrameBuilder::drawDepthMaps(Frame& f, int debugSlot) {
     backend_.drawDepthMap(job);
     depthScheduler_.done(slot);
     slotCutDrawn_[size_t(slot)] = slotCut_[size_t(slot)];
+    slotBuildingCutDrawn_[size_t(slot)] = slotBuildingCut_[size_t(slot)];
     f.depthMapsDrawn.push_back(slot);
     ++stats_.depthMapsRendered;
     ++stats_.depthMapsThisFrame;
@@ -407,78 +416,6 @@ void FrameBuilder::drawDepthMaps(Frame& f, int debugSlot) {
   }
   // The depth-map debug view's photograph, outside the schedule: one map, when it is shown.
   if (debugSlot >= 0 && depthScheduler_.isDirty(debugSlot)) draw(debugSlot);
-}
-
-// The streamed terrain (render/terrain_stream.h, docs/design.md "Terrain streaming"): collects
-// the tiles read since the last frame, cuts the quadtree for each photograph of the frame (their
-// depth maps: the occlusion test needs what they see at their own resolution) and then the view,
-// requests what the cuts wait for (the view's visible tiles first, nearest first), evicts the
-// least recently used tiles over the budget, and marks dirty each depth map whose cut changed.
-// Batch frames wait until no cut waits for anything.
-void FrameBuilder::streamTerrain(Frame& f, int debugSlot) {
-  if (!terrain_) return;
-  auto install = [&](TerrainTileMesh&& m) {
-    if (!m.error.empty()) {
-      diag_.error(m.error + " (its parent drawn instead)");
-      return;
-    }
-    backend_.uploadTerrainTile(m.id, m.vertices, m.indices);
-  };
-  std::vector<int> slots;
-  for (int slot : f.slots)
-    if (slot >= 0) slots.push_back(slot);
-  if (debugSlot >= 0 && std::find(slots.begin(), slots.end(), debugSlot) == slots.end()) slots.push_back(debugSlot);
-  const double tolerance = std::max(1e-3, settings_.geometryTolerancePx);
-  // After the view's visible tiles (kOutOfViewPenalty keeps the rest behind both).
-  constexpr double kPhotographs = 1e6;
-  TerrainCut view;
-  auto cut = [&] {
-    terrain_->beginFrame();
-    int missing = 0;
-    for (int slot : slots) {
-      const int photo = cache_.photoIn(slot);
-      if (photo < 0 || isSubImage(photo)) continue;  // a sub-image's map is uploaded, not drawn
-      const Camera cam = photoCamera(photo);
-      const glm::dmat4 clip = hv::clipFromRender(cam, slotFrustum_[size_t(slot)], scene_.origin);
-      TerrainCut c = terrain_->select(cam, tolerance, kPhotographs, &clip);
-      missing += c.missing;
-      slotCut_[size_t(slot)] = std::move(c.nodes);
-    }
-    view = terrain_->select(f.view, tolerance, 0.0, &f.rect.clipFromRender);
-    return missing + view.missing;
-  };
-  for (TerrainTileMesh& m : terrain_->poll()) install(std::move(m));
-  terrainMissing_ = cut();
-  while (f.mode == FrameMode::Batch && terrainMissing_ > 0 && terrain_->pendingTiles() > 0) {
-    terrain_->waitAll(install);
-    terrainMissing_ = cut();
-  }
-  for (TerrainNodeId id : terrain_->endFrame()) backend_.releaseTerrainTile(id);
-  for (int slot : slots)
-    if (slotCut_[size_t(slot)] != slotCutDrawn_[size_t(slot)]) depthScheduler_.markDirty(slot);
-  if (settings_.layers.terrain) f.terrainTiles = visibleTerrain(view.nodes, f.rect.clipFromRender);
-  stats_.streamingTerrain = true;
-  stats_.terrainTilesResident = int(terrain_->residentTiles());
-  stats_.terrainTilesPending = int(terrain_->pendingTiles());
-  stats_.terrainBytes = terrain_->residentBytes();
-  stats_.terrainPeakBytes = terrain_->peakBytes();
-  stats_.terrainFrameBytes = terrain_->frameBytes();
-  stats_.terrainBudgetBytes = terrain_->memoryBudget();
-  stats_.terrainEvictions = terrain_->evictions();
-  stats_.terrainViewTiles = int(view.nodes.size());
-  stats_.terrainViewMissing = view.missing;
-}
-
-// The tiles of a cut whose boxes may be inside the clip volume (all of them without culling).
-std::vector<std::uint64_t> FrameBuilder::visibleTerrain(const std::vector<TerrainNodeId>& cut,
-                                                        const glm::dmat4& clipFromRender) const {
-  std::vector<std::uint64_t> out;
-  for (TerrainNodeId id : cut) {
-    glm::vec3 lo, hi;
-    if (!terrain_->boxOf(id, lo, hi)) continue;
-    if (!settings_.geometryCulling || boxMayBeVisible(clipFromRender, lo, hi)) out.push_back(id);
-  }
-  return out;
 }
 
 // Per-image parameters (2022 §2.1, ibr::packImageParams): one row per image. An image whose
@@ -541,6 +478,7 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   }
   f.rect.clipFromRender = hv::clipFromRender(view, f.rect.frustum, scene_.origin);
   streamTerrain(f, debugSlot);
+  streamBuildings(f, debugSlot);
   drawDepthMaps(f, debugSlot);
   debugWaiting_ = settings_.debug.view == DebugView::DepthMap && debugSlot < 0 && settings_.debug.photo >= 0 &&
                   loader_->isPending(settings_.debug.photo);
@@ -556,8 +494,8 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   f.draws = visibleRanges(tiles_, f.layers, f.rect.clipFromRender, settings_.geometryCulling, &stats_.tilesDrawn);
   stats_.trianglesDrawn = 0;
   for (const DrawRange& r : f.draws) stats_.trianglesDrawn += r.count / 3;
-  for (std::uint64_t id : f.terrainTiles) stats_.trianglesDrawn += std::int64_t(terrain_->trianglesOf(id));
-  stats_.tilesDrawn += int(f.terrainTiles.size());
+  for (std::uint64_t id : f.streamedTiles) stats_.trianglesDrawn += std::int64_t(streamedTriangles(id));
+  stats_.tilesDrawn += int(f.streamedTiles.size());
   const PointSettings& ps = settings_.points;
   f.points.enabled = pointsActive();
   stats_.pointsDrawn = 0;

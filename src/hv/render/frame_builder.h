@@ -11,6 +11,7 @@
 #include "hv/ibr/slot_cache.h"
 #include "hv/layers/layered_texture.h"
 #include "hv/render/backend.h"
+#include "hv/render/building_stream.h"
 #include "hv/render/frame.h"
 #include "hv/render/terrain_stream.h"
 #include "hv/util/diagnostics.h"
@@ -42,9 +43,13 @@ class FrameBuilder {
   // Makes the images a view needs resident without building a frame.
   void preload(const Camera& view);
 
-  bool converged() const { return stats_.imagesWaiting == 0 && !debugWaiting_ && terrainMissing_ == 0; }
-  // The streamed terrain (null without Scene::terrainTiles).
+  bool converged() const {
+    return stats_.imagesWaiting == 0 && !debugWaiting_ && terrainMissing_ == 0 && buildingsMissing_ == 0;
+  }
+  // The streamed terrain (null without Scene::terrainTiles) and buildings (null without
+  // Scene::buildingTiles).
   const TerrainStream* terrainStream() const { return terrain_.get(); }
+  const BuildingStream* buildingStream() const { return buildings_.get(); }
   const ibr::FramePlan& lastPlan() const { return plan_; }
   const std::vector<ibr::ImageParams>& lastImageParams() const { return params_; }
   ibr::SliceSize sliceSize() const { return layout_.slice; }
@@ -102,9 +107,15 @@ class FrameBuilder {
   ibr::BlendSettings frameBlendSettings();
   int prepareDebugPhoto(FrameMode mode);
   void drawDepthMaps(Frame& frame, int debugSlot);
+  std::vector<int> drawnSlots(const Frame& frame, int debugSlot) const;
   void streamTerrain(Frame& frame, int debugSlot);
   std::vector<std::uint64_t> visibleTerrain(const std::vector<TerrainNodeId>& cut,
                                             const glm::dmat4& clipFromRender) const;
+  void streamBuildings(Frame& frame, int debugSlot);
+  std::vector<std::uint64_t> visibleBuildings(const std::vector<std::uint32_t>& cut,
+                                              const glm::dmat4& clipFromRender) const;
+  void setBuildingValidity(std::uint32_t first, const std::vector<glm::vec2>& days);
+  std::size_t streamedTriangles(std::uint64_t id) const;
   void packParams(Frame& frame);
   void packLayered(Frame& frame, const ibr::SelectedImage& selected);
   void trafficOfFrame(Frame& frame);
@@ -163,6 +174,14 @@ class FrameBuilder {
   std::unique_ptr<TerrainStream> terrain_;
   std::vector<std::vector<TerrainNodeId>> slotCut_, slotCutDrawn_;
   int terrainMissing_ = 0;
+  // The streamed buildings (Scene::buildingTiles), likewise, and the validity texels of the
+  // resident buildings (uploaded whole when a tile brings new ones).
+  static constexpr int kValidityWidth = 1024;
+  std::unique_ptr<BuildingStream> buildings_;
+  std::vector<std::vector<std::uint32_t>> slotBuildingCut_, slotBuildingCutDrawn_;
+  int buildingsMissing_ = 0;
+  std::vector<float> validity_;
+  bool validityDirty_ = false;
 
   ibr::FramePlan plan_;
   // Layered photographs (setLayeredPhotograph): per photo its layers (null: none) and its

@@ -5,6 +5,7 @@
 #include "hv/render/geometry_tiles.h"
 
 #include "hv/camera/frustum_outline.h"
+#include "hv/scene/building_tiles.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/robust_extent.h"
 #include "hv/scene/point_colors.h"
@@ -33,10 +34,11 @@ void FrameBuilder::buildGeometry() {
   GeometryBuffers g;
   constexpr int kStride = GeometryBuffers::kStride;
   const glm::vec2 always = ibr::gpuDays(DateInterval{});
-  // A streamed terrain (render/terrain_stream.h) is drawn from its own tiles, not from the buffer.
+  // A streamed terrain (render/terrain_stream.h) and streamed buildings (render/building_stream.h)
+  // are drawn from their own tiles, not from the buffer.
   static const Mesh kNone;
   const std::array<const Mesh*, kLayerCount> layers = {scene_.terrainTiles ? &kNone : &scene_.terrain,
-                                                       &scene_.buildings, &scene_.mesh};
+                                                       scene_.buildingTiles ? &kNone : &scene_.buildings, &scene_.mesh};
   // The tile grid covers the inliers' ground extent (one absurd vertex does not stretch it).
   const Aabb inliers = robustExtent(scene_).bounds;
   std::size_t triangles = 0;
@@ -78,6 +80,9 @@ void FrameBuilder::buildGeometry() {
   // The load-time cut's box stands for the streamed terrain's (finer tiles stay within about the
   // tolerance of it; its skirts reach below).
   if (scene_.terrainTiles) bounds_.extend(scene_.terrain.bounds());
+  // Streamed buildings: the tiles' boxes (conservative in height).
+  if (scene_.buildingTiles)
+    for (const Aabb& b : scene_.buildingTiles->boxes) bounds_.extend(b);
   tiles_ = g.tiles;
   stats_.geometryTiles = int(tiles_.size());
   // Padded so that flat geometry (a single wall, flat ground) still has a volume to sample.
@@ -85,6 +90,10 @@ void FrameBuilder::buildGeometry() {
   // ranges until the picture is black: both boxes stop at the scene's inliers
   // (hv/scene/robust_extent.h).
   inlierBounds_ = robustExtent(scene_).bounds;
+  // Streamed buildings are not in the scene's meshes: their tiles' boxes are what the views may
+  // see of them.
+  if (scene_.buildingTiles)
+    for (const Aabb& b : scene_.buildingTiles->boxes) inlierBounds_.extend(b);
   bounds_ = clippedTo(bounds_, inlierBounds_);
   geometryBounds_ = bounds_;
   if (!geometryBounds_.empty()) {
@@ -95,7 +104,8 @@ void FrameBuilder::buildGeometry() {
   for (const auto& p : scene_.photos) bounds_.extend(p.camera.center);
   bounds_ = clippedTo(bounds_, inlierBounds_);
 
-  const int n = std::max<int>(1, int(scene_.buildingValidity.size()));
+  // Streamed buildings bring their dates with their tiles (streamBuildings).
+  const int n = scene_.buildingTiles ? 1 : std::max<int>(1, int(scene_.buildingValidity.size()));
   g.validityWidth = std::min(n, 1024);
   g.validityRows = (n + g.validityWidth - 1) / g.validityWidth;
   g.validity.assign(size_t(g.validityWidth) * g.validityRows * 4, 0.0f);

@@ -6,6 +6,7 @@
 
 #include "hv/image/native/png_write.h"
 #include "hv/render/null_backend.h"
+#include "hv/scene/building_tiles.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/terrain_quadtree.h"
 
@@ -18,6 +19,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <set>
 
 namespace hv::render {
 namespace {
@@ -376,6 +378,113 @@ TEST_F(FrameBuilderTest, PointsSwitchedOnLaterAreUploadedOnceAndRedrawTheDepthMa
   EXPECT_EQ(backend_.depthMaps.size(), size_t(3 * kPhotos));  // the maps lose the points
 }
 
+
+// Streamed buildings (render/building_stream.h): a 10 x 10 grid of 40 m tiles, one 10 m tower in
+// each, some of them dated. The photographs (within 93 m of the centre, focal 30 px: a reach of
+// 4 m x 30 = 120 m) never see the far corner; a view looking there shows its towers all the same.
+std::shared_ptr<BuildingTileSet> towerTiles() {
+  auto set = std::make_shared<BuildingTileSet>();
+  for (std::uint32_t t = 0; t < 100; ++t) {
+    const double x = -200.0 + 40.0 * (t % 10), y = -200.0 + 40.0 * (t / 10);
+    Aabb b;
+    b.lo = {x - 40.0, y - 40.0, -50.0};
+    b.hi = {x + 80.0, y + 80.0, 60.0};
+    set->boxes.push_back(b);
+  }
+  set->read = [](std::uint32_t t) {
+    const double x = -200.0 + 40.0 * (t % 10) + 15.0, y = -200.0 + 40.0 * (t / 10) + 15.0;
+    BuildingTileData d;
+    Mesh& m = d.mesh;
+    for (int c = 0; c < 8; ++c) m.positions.push_back({x + (c & 1 ? 10.0 : 0.0), y + (c & 2 ? 10.0 : 0.0), c & 4 ? 10.0 : 0.0});
+    const int f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    for (const auto& tri : f) m.triangles.push_back(glm::uvec3(tri[0], tri[1], tri[2]));
+    m.triangleTags.assign(12, 0);
+    DateInterval v;
+    if (t % 4 == 1) v.first = 1000 + t;
+    d.validity.push_back(v);
+    return d;
+  };
+  return set;
+}
+
+TEST_F(FrameBuilderTest, StreamedBuildingsFollowTheViewAndTheirDatesComeWithThem) {
+  scene_.buildingTiles = towerTiles();
+  settings_.geometryThreads = 0;
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  // The far corner (tiles 88, 89, 98, 99), seen from inside the city.
+  const Camera corner = lookAtCamera("corner", {60, 60, 30}, {175, 175, 5}, 64, 48, 60.0);
+  const Frame f = builder.build(corner, FrameMode::Batch, false);
+  ASSERT_TRUE(builder.converged());
+  EXPECT_TRUE(builder.stats().streamingBuildings);
+  std::set<std::uint32_t> viewTiles, mapTiles;
+  for (std::uint64_t id : f.streamedTiles) {
+    ASSERT_TRUE(id & kBuildingTileId);
+    EXPECT_TRUE(backend_.streamedTiles.count(id));
+    viewTiles.insert(std::uint32_t(id & ~kBuildingTileId));
+  }
+  for (const DepthMapJob& job : backend_.depthMaps)
+    for (std::uint64_t id : job.streamedTiles) mapTiles.insert(std::uint32_t(id & ~kBuildingTileId));
+  EXPECT_TRUE(viewTiles.count(99) && viewTiles.count(88)) << "the view shows the far corner's towers";
+  EXPECT_FALSE(mapTiles.count(99)) << "no photograph reaches the far corner";
+  EXPECT_TRUE(mapTiles.count(44) || mapTiles.count(55)) << "the photographs see the centre's towers";
+  // One tower a tile, 12 triangles: what the backend holds is what the stream says.
+  EXPECT_EQ(size_t(builder.stats().buildingTilesResident), backend_.streamedTiles.size());
+  for (const auto& [id, triangles] : backend_.streamedTiles) EXPECT_EQ(triangles, 12);
+  // The validity texels hold the dates of exactly the resident towers.
+  std::multiset<float> expected, uploaded;
+  for (const auto& [id, triangles] : backend_.streamedTiles) {
+    const std::uint32_t t = std::uint32_t(id & ~kBuildingTileId);
+    DateInterval v;
+    if (t % 4 == 1) v.first = 1000 + t;
+    expected.insert(ibr::gpuDays(v).x);
+  }
+  ASSERT_EQ(backend_.validityWidth, 1024);
+  ASSERT_EQ(backend_.validity.size(), size_t(backend_.validityWidth) * backend_.validityRows * 4);
+  for (std::uint32_t b = 0; b < builder.buildingStream()->buildingIndexEnd(); ++b)
+    uploaded.insert(backend_.validity[size_t(b) * 4]);
+  EXPECT_EQ(uploaded, expected);
+  EXPECT_TRUE(diag_.ok());
+}
+
+TEST_F(FrameBuilderTest, StreamedBuildingsRedrawDepthMapsOnlyWhenTilesChangeAndStayWithinTheBudget) {
+  scene_.buildingTiles = towerTiles();
+  settings_.geometryThreads = 0;    // one tile a progressive frame, on this thread
+  settings_.depthMapsPerFrame = 0;  // every dirty map at once, so a frame's redraws are its own
+  FrameBuilder builder(scene_, settings_, diag_, backend_);
+  int frames = 0, redrawFrames = 0;
+  for (; frames < 500 && (frames == 0 || !builder.converged()); ++frames) {
+    const auto tilesBefore = backend_.streamedTiles;
+    const size_t uploadsBefore = backend_.uploads.size(), mapsBefore = backend_.depthMaps.size();
+    builder.build(view(), FrameMode::Progressive, false);
+    const bool changed = backend_.streamedTiles != tilesBefore || backend_.uploads.size() != uploadsBefore;
+    if (backend_.depthMaps.size() > mapsBefore) {
+      ++redrawFrames;
+      EXPECT_TRUE(changed) << "frame " << frames << " redrew a depth map with nothing new";
+    }
+  }
+  ASSERT_TRUE(builder.converged());
+  EXPECT_GT(frames, 3);
+  EXPECT_GT(redrawFrames, 1);
+  const size_t maps = backend_.depthMaps.size();
+  for (int i = 0; i < 3; ++i) builder.build(view(), FrameMode::Progressive, false);
+  EXPECT_EQ(backend_.depthMaps.size(), maps) << "nothing arrived: no depth map is redrawn";
+
+  // A budget of a few towers: what is resident after each frame fits it, and the tiles are evicted
+  // on the backend too.
+  NullBackend tight;
+  RenderSettings small = settings_;
+  const std::size_t perTower = 8 * GeometryBuffers::kStride * sizeof(float) + 36 * sizeof(std::uint32_t);
+  small.geometryMemoryBytes = 5 * perTower;
+  FrameBuilder limited(scene_, small, diag_, tight);
+  for (const Camera& c : {view(), lookAtCamera("corner", {60, 60, 30}, {175, 175, 5}, 64, 48, 60.0), view()}) {
+    limited.build(c, FrameMode::Batch, false);
+    EXPECT_LE(limited.stats().buildingBytes, small.geometryMemoryBytes);
+    EXPECT_EQ(tight.streamedTiles.size(), size_t(limited.stats().buildingTilesResident));
+  }
+  EXPECT_GT(limited.stats().buildingEvictions, 0u);
+  EXPECT_TRUE(diag_.ok());
+}
 }  // namespace
 }  // namespace hv::render
 
@@ -468,24 +577,24 @@ TEST_F(FrameBuilderTest, StreamedTerrainRedrawsDepthMapsOnlyWhenTilesChange) {
       << "the streamed terrain is not in the static buffer";
   int frames = 0, redrawFrames = 0;
   for (; frames < 2000 && (frames == 0 || !builder.converged()); ++frames) {
-    const auto tilesBefore = backend_.terrainTiles;
+    const auto tilesBefore = backend_.streamedTiles;
     const size_t uploadsBefore = backend_.uploads.size(), mapsBefore = backend_.depthMaps.size();
     const Frame f = builder.build(view(), FrameMode::Progressive, false);
-    const bool changed = backend_.terrainTiles != tilesBefore || backend_.uploads.size() != uploadsBefore;
+    const bool changed = backend_.streamedTiles != tilesBefore || backend_.uploads.size() != uploadsBefore;
     if (backend_.depthMaps.size() > mapsBefore) {
       ++redrawFrames;
       EXPECT_TRUE(changed) << "frame " << f.number << " redrew a depth map with nothing new";
     }
     for (size_t m = mapsBefore; m < backend_.depthMaps.size(); ++m)
-      for (std::uint64_t id : backend_.depthMaps[m].terrainTiles) EXPECT_TRUE(backend_.terrainTiles.count(id));
-    for (std::uint64_t id : f.terrainTiles) EXPECT_TRUE(backend_.terrainTiles.count(id));
+      for (std::uint64_t id : backend_.depthMaps[m].streamedTiles) EXPECT_TRUE(backend_.streamedTiles.count(id));
+    for (std::uint64_t id : f.streamedTiles) EXPECT_TRUE(backend_.streamedTiles.count(id));
   }
   ASSERT_TRUE(builder.converged());
   EXPECT_GT(frames, 3);
   EXPECT_GT(redrawFrames, 1);  // the maps followed the tiles as they arrived
   EXPECT_EQ(builder.stats().terrainViewMissing, 0);
   EXPECT_EQ(builder.stats().terrainTilesPending, 0);
-  EXPECT_EQ(size_t(builder.stats().terrainTilesResident), backend_.terrainTiles.size());
+  EXPECT_EQ(size_t(builder.stats().terrainTilesResident), backend_.streamedTiles.size());
   EXPECT_LE(builder.stats().terrainBytes, builder.stats().terrainBudgetBytes);
   const size_t maps = backend_.depthMaps.size();
   for (int i = 0; i < 3; ++i) builder.build(view(), FrameMode::Progressive, false);

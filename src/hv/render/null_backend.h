@@ -22,12 +22,18 @@ class NullBackend final : public Backend {
 
   BackendLimits limits() const override { return limits_; }
   void uploadGeometry(const GeometryBuffers& geometry) override;
-  void uploadTerrainTile(std::uint64_t id, const std::vector<float>& vertices,
+  void uploadStreamedTile(std::uint64_t id, const std::vector<float>& vertices,
                          const std::vector<std::uint32_t>& indices) override {
-    terrainTiles[id] = int(indices.size() / 3);
+    streamedTiles[id] = int(indices.size() / 3);
     (void)vertices;
   }
-  void releaseTerrainTile(std::uint64_t id) override { terrainTiles.erase(id); }
+  void releaseStreamedTile(std::uint64_t id) override { streamedTiles.erase(id); }
+  void uploadValidity(const std::vector<float>& texels, int width, int rows) override {
+    validity = texels;
+    validityWidth = width;
+    validityRows = rows;
+    ++validityUploads;
+  }
   PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) override;
   void allocateSlots(const SlotLayout& layout) override { layout_ = layout; }
   void uploadImage(int slot, const Image8& slice) override { uploads.push_back({slot, slice.width, slice.height}); }
@@ -49,7 +55,9 @@ class NullBackend final : public Backend {
   int finishes = 0;
   int triangles = 0;                          // uploaded geometry
   GeometryBuffers geometry;                   // as uploaded
-  std::map<std::uint64_t, int> terrainTiles;  // streamed terrain tiles held: id -> triangles
+  std::map<std::uint64_t, int> streamedTiles;  // streamed tiles held: id -> triangles
+  std::vector<float> validity;                 // the building validity texels, as last uploaded
+  int validityWidth = 1, validityRows = 1, validityUploads = 0;
   std::size_t points = 0;                     // uploaded point vertices
   const SlotLayout& layout() const { return layout_; }
 

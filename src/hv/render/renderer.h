@@ -72,6 +72,17 @@ struct RenderStats {
   int terrainViewTiles = 0;
   int terrainViewMissing = 0;  // tiles the view's cut waits for
   bool streamingTerrain = false;
+  // Streamed buildings (render/building_stream.h; 0 without them), likewise; their bytes count
+  // in the same budget as the terrain's (geometryMemoryBytes).
+  int buildingTilesResident = 0;
+  int buildingTilesPending = 0;
+  std::size_t buildingsResident = 0;
+  std::size_t buildingBytes = 0, buildingPeakBytes = 0;
+  std::size_t buildingEvictions = 0;
+  int buildingViewTiles = 0;
+  int buildingViewMissing = 0;
+  bool buildingBudgetLimited = false;  // the view's cut left tiles out for the budget
+  bool streamingBuildings = false;
 };
 
 // Where a photograph stands in the renderer (the viewer's residency table).

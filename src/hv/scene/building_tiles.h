@@ -15,6 +15,11 @@
 
 namespace hv {
 
+// How far a camera is taken to see buildings: kBuildingReachMetresPerPixel x its focal length in
+// pixels (farther, a pixel spans more than that on a facade facing it: too coarse to texture a
+// building, and a building of a few metres is a pixel or less).
+constexpr double kBuildingReachMetresPerPixel = 4.0;
+
 // The buildings one tile owns (a building crossing tile borders is owned by one tile), extruded:
 // world frame, `mesh.triangleTags` index `validity` (0 .. n-1, one per building of the tile).
 struct BuildingTileData {

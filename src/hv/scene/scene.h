@@ -17,7 +17,8 @@
 
 namespace hv {
 
-class TerrainQuadtree;  // hv/scene/terrain_quadtree.h
+class TerrainQuadtree;   // hv/scene/terrain_quadtree.h
+struct BuildingTileSet;  // hv/scene/building_tiles.h
 struct Trajectories;    // hv/traffic/trajectories.h
 
 // A photograph's colour correction (docs/design.md, "Photographs that agree in colour"): the colour
@@ -75,11 +76,18 @@ struct Scene {
   std::vector<std::uint32_t> tileOfBuilding;
   struct BuildingTilesInfo {
     std::size_t loaded = 0, total = 0;  // tiles read (holding buildings or not) / in the grid
+    std::size_t streamed = 0;           // tiles in buildingTiles (0: not streamed)
     double tileSize = 0.0;              // in the source's units
     bool spatialFilter = true;          // read through OGR's spatial filter
     std::string note;                   // why not, when not
     std::string selection;              // which tiles were read
   } buildingTilesInfo;
+  // Buildings too many to draw whole (a source with more tiles than the photographs see; the
+  // loader's footprintTileSet, hv/io/native/footprints.h): every tile, read on demand, for the
+  // renderer to stream per view (hv/render/building_stream.h); `buildings` then holds the tiles
+  // the photographs' cameras see, for the CPU's uses (ray casts, layers, evaluation). Null: the
+  // renderer draws `buildings`. Shared by copies of the scene.
+  std::shared_ptr<const BuildingTileSet> buildingTiles;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
   // scene.json "points" (empty: none), organised into chunks (hv/scene/chunks.h) at load, in the
   // scene frame; `points.crs` keeps the CRS they were given in (the file's, or points.crs).

@@ -39,6 +39,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <thread>
@@ -431,6 +432,8 @@ bool cameraMaySee(const Camera& camera, const Aabb& box, double reach) {
 // LOD1 rules of buildLod1 and the validity dates of the attributes. With photographs, only the
 // tiles some photograph may see closer than kBuildingReachMetresPerPixel x its focal length are
 // read (docs/design.md, "Building tiles"); without, all of them.
+// A source with tiles that no photograph sees is also streamed per view (Scene::buildingTiles,
+// hv/render/building_stream.h), so that a view looking past the photographs still shows them.
 void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfield& dtm, Diagnostics& diag) {
   const auto t0 = std::chrono::steady_clock::now();
   FootprintTileOptions options;
@@ -440,18 +443,24 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfiel
   for (float z : dtm.z)
     if (std::isfinite(z)) zlo = std::min(zlo, double(z)), zhi = std::max(zhi, double(z));
   for (const Photo& p : scene.photos) zlo = std::min(zlo, p.camera.center.z), zhi = std::max(zhi, p.camera.center.z);
-  zlo -= 1000.0;
-  zhi += 1000.0;
+  if (!std::isfinite(zlo)) zlo = zhi = 0.0;  // neither terrain nor cameras
+  zlo -= kBuildingTileMarginMetres;
+  zhi += kBuildingTileMarginMetres;
+  // The tiles read here, as extruded (the streamed tile set's reader serves them from memory).
+  auto read = std::make_shared<std::map<std::uint32_t, BuildingTileData>>();
+  std::uint32_t asked = 0;  // readFootprintTiles asks for every tile in index order
   if (!scene.photos.empty()) {
     options.wanted = [&](glm::dvec2 lo, glm::dvec2 hi) {
-      if (!std::isfinite(lo.x) || !std::isfinite(lo.y) || !std::isfinite(hi.x) || !std::isfinite(hi.y)) return true;
+      const std::uint32_t index = asked++;
+      bool wanted = !std::isfinite(lo.x) || !std::isfinite(lo.y) || !std::isfinite(hi.x) || !std::isfinite(hi.y);
       Aabb box;
       box.lo = {lo, zlo};
       box.hi = {hi, zhi};
       for (const Photo& p : scene.photos)
-        if (cameraMaySee(p.camera, box, kBuildingReachMetresPerPixel * std::max(p.camera.focal.x, p.camera.focal.y)))
-          return true;
-      return false;
+        wanted = wanted || cameraMaySee(p.camera, box,
+                                        kBuildingReachMetresPerPixel * std::max(p.camera.focal.x, p.camera.focal.y));
+      if (wanted) (*read)[index] = BuildingTileData{};  // empty unless it holds footprints
+      return wanted;
     };
   }
   Scene::BuildingTilesInfo& info = scene.buildingTilesInfo;
@@ -462,6 +471,7 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfiel
         const std::uint32_t first = std::uint32_t(scene.buildingValidity.size());
         BuildingTileData data =
             extrudeFootprintTile(tile.footprints, dtm.empty() ? nullptr : &dtm, b.fields, b.path, diag);
+        if (!scene.photos.empty()) (*read)[std::uint32_t(tile.index)] = data;
         for (std::uint32_t& tag : data.mesh.triangleTags) tag += first;
         scene.buildings.append(data.mesh);
         scene.buildingValidity.insert(scene.buildingValidity.end(), data.validity.begin(), data.validity.end());
@@ -487,6 +497,26 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfiel
   log::debug("buildings: " + b.path + ": " + std::to_string(info.loaded) + " of " + std::to_string(info.total) +
              " tiles read (" + std::to_string(delivered) + " holding buildings), " +
              std::to_string(scene.buildingValidity.size()) + " buildings, " + std::to_string(s) + " s");
+  if (info.loaded >= info.total) return;
+  try {
+    const auto t1 = std::chrono::steady_clock::now();
+    FootprintTileSource streamed;
+    std::shared_ptr<const Heightfield> base = dtm.empty() ? nullptr : std::make_shared<const Heightfield>(dtm);
+    auto set = std::make_shared<BuildingTileSet>(
+        *footprintTileSet(b.path, b.fields, b.georef, options, std::move(base), zlo, zhi, streamed, diag));
+    // The tiles read above are not read again: the same grid (the same options), the same indices.
+    set->read = [read, fromSource = set->read](std::uint32_t tile) {
+      const auto it = read->find(tile);
+      return it != read->end() ? it->second : fromSource(tile);
+    };
+    scene.buildingTiles = std::move(set);
+    info.streamed = scene.buildingTiles->boxes.size();
+    log::debug("buildings: " + b.path + ": " + std::to_string(info.streamed) + " tiles streamed per view, set up in " +
+               std::to_string(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()) + " s");
+  } catch (const InputError& e) {
+    scene.buildingTiles.reset();
+    diag.error(std::string(e.what()) + " (buildings not streamed: only those the photographs see are drawn)");
+  }
 }
 
 // Scene::terrain from the quadtree: the tiles the photographs' cameras need (docs/design.md,

@@ -17,10 +17,12 @@ constexpr int kTerrainTileCells = 64;
 constexpr double kTerrainTolerancePx = 2.0;
 // Buildings are read by tile (hv/io/native/footprints.h), about kBuildingsPerTile footprints per
 // tile; with photographs, only the tiles some photograph may see closer than
-// kBuildingReachMetresPerPixel x its focal length in pixels (farther, a pixel of it spans more
-// than that on a facade facing it: too coarse to texture a building).
+// kBuildingReachMetresPerPixel (hv/scene/building_tiles.h) x its focal length in pixels. A source
+// with more tiles than those is also streamed per view (Scene::buildingTiles) for the renderer.
 constexpr std::size_t kBuildingsPerTile = 256;
-constexpr double kBuildingReachMetresPerPixel = 4.0;
+// The tiles' boxes span the terrain's and the cameras' heights, widened by this much (towers,
+// basements) until a tile's own box is known from its buildings.
+constexpr double kBuildingTileMarginMetres = 1000.0;
 constexpr std::size_t kTerrainTriangleBudget = 2'000'000;
 
 // Loads terrain, buildings and cameras. A broken source (missing file, unreadable raster, bad

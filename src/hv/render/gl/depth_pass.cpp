@@ -8,7 +8,7 @@ namespace hv::render::gl {
 
 void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
                           const DateInterval& date, const std::vector<DrawRange>& draws,
-                          const std::vector<std::uint64_t>& terrainTiles, double pushBack, glm::dvec3 centerRender) {
+                          const std::vector<std::uint64_t>& streamedTiles, double pushBack, glm::dvec3 centerRender) {
   program.program.use();
   glUniform1f(program.pushBack, float(pushBack));
   glUniform3f(program.center, float(centerRender.x), float(centerRender.y), float(centerRender.z));
@@ -24,9 +24,9 @@ void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, d
   glClearDepthf(1.0f);
   glClear(GL_DEPTH_BUFFER_BIT);
   if (indexCount_ > 0) drawRanges(draws);
-  for (const std::uint64_t id : terrainTiles) {
-    const auto it = terrainTiles_.find(id);
-    if (it == terrainTiles_.end() || it->second.indexCount == 0) continue;
+  for (const std::uint64_t id : streamedTiles) {
+    const auto it = streamedTiles_.find(id);
+    if (it == streamedTiles_.end() || it->second.indexCount == 0) continue;
     glBindVertexArray(it->second.vao.id());
     glDrawElements(GL_TRIANGLES, it->second.indexCount, GL_UNSIGNED_INT, nullptr);
   }
@@ -55,7 +55,7 @@ void GlBackend::drawDepthMap(const DepthMapJob& job) {
   glReadBuffer(GL_NONE);
   gpu::checkFramebuffer("depth map");
   glViewport(0, 0, job.size, job.size);
-  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.draws, job.terrainTiles,
+  drawDepth(depthProgram_, job.clipFromRender, job.frustum.near, job.frustum.far, job.date, job.draws, job.streamedTiles,
             job.pushBack, job.centerRender);
   if (job.withPoints) {
     // Non-transient points refine the occlusion (2016 §4.2, 2022 §2.4); transient ones never occlude.
@@ -94,7 +94,7 @@ void GlBackend::viewDepthPass(const Frame& f) {
   glClearBufferfv(GL_COLOR, 0, noBuilding);
   // The view shows today's geometry: every surface, whatever its dates.
   drawDepth(viewDepthProgram_, f.rect.clipFromRender, f.rect.frustum.near, f.rect.frustum.far, DateInterval{}, f.draws,
-            f.terrainTiles, 0.0, glm::dvec3(0.0));
+            f.streamedTiles, 0.0, glm::dvec3(0.0));
 }
 
 }  // namespace hv::render::gl

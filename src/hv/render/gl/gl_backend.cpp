@@ -88,9 +88,15 @@ void GlBackend::uploadGeometry(const GeometryBuffers& g) {
   checkGlError("geometry upload");
 }
 
-void GlBackend::uploadTerrainTile(std::uint64_t id, const std::vector<float>& vertices,
+void GlBackend::uploadValidity(const std::vector<float>& validity, int width, int rows) {
+  validityWidth_ = width;
+  validityTexture_ = gpu::makeFloatData(width, rows, validity.data());
+  checkGlError("validity upload");
+}
+
+void GlBackend::uploadStreamedTile(std::uint64_t id, const std::vector<float>& vertices,
                                   const std::vector<std::uint32_t>& indices) {
-  TerrainTileBuffers t;
+  StreamedTileBuffers t;
   t.vao = gpu::makeVertexArray();
   t.vertices = gpu::makeBuffer();
   t.indices = gpu::makeBuffer();
@@ -103,8 +109,8 @@ void GlBackend::uploadTerrainTile(std::uint64_t id, const std::vector<float>& ve
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(),
                GL_STATIC_DRAW);
   glBindVertexArray(0);
-  checkGlError("terrain tile upload");
-  terrainTiles_[id] = std::move(t);
+  checkGlError("streamed tile upload");
+  streamedTiles_[id] = std::move(t);
 }
 
 PointProgramInfo GlBackend::uploadPoints(const std::vector<PointVertex>& vertices, const PointProgramRequest& req) {

@@ -59,9 +59,10 @@ class GlBackend final : public Backend {
 
   BackendLimits limits() const override;
   void uploadGeometry(const GeometryBuffers& geometry) override;
-  void uploadTerrainTile(std::uint64_t id, const std::vector<float>& vertices,
+  void uploadStreamedTile(std::uint64_t id, const std::vector<float>& vertices,
                          const std::vector<std::uint32_t>& indices) override;
-  void releaseTerrainTile(std::uint64_t id) override { terrainTiles_.erase(id); }
+  void releaseStreamedTile(std::uint64_t id) override { streamedTiles_.erase(id); }
+  void uploadValidity(const std::vector<float>& validity, int width, int rows) override;
   PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) override;
   void allocateSlots(const SlotLayout& layout) override;
   void uploadImage(int slot, const Image8& slice) override;
@@ -75,7 +76,7 @@ class GlBackend final : public Backend {
   bool naive() const { return layout_.binding == Binding::Naive; }
   // depth_pass.cpp
   void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far, const DateInterval& date,
-                 const std::vector<DrawRange>& draws, const std::vector<std::uint64_t>& terrainTiles, double pushBack,
+                 const std::vector<DrawRange>& draws, const std::vector<std::uint64_t>& streamedTiles, double pushBack,
                  glm::dvec3 centerRender);
   void drawRanges(const std::vector<DrawRange>& draws);
   void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
@@ -113,13 +114,14 @@ class GlBackend final : public Backend {
   int indexCount_ = 0;
   std::array<DrawRange, kLayerCount> layerRange_;
   gpu::Texture validityTexture_;
-  // Streamed terrain tiles (render/terrain_stream.h), each in buffers of its own.
-  struct TerrainTileBuffers {
+  // Streamed terrain and building tiles (render/terrain_stream.h, building_stream.h), each in
+  // buffers of its own.
+  struct StreamedTileBuffers {
     gpu::VertexArray vao;
     gpu::Buffer vertices, indices;
     int indexCount = 0;
   };
-  std::unordered_map<std::uint64_t, TerrainTileBuffers> terrainTiles_;
+  std::unordered_map<std::uint64_t, StreamedTileBuffers> streamedTiles_;
   int validityWidth_ = 1;
 
   // Slot i of both stores holds one photograph: texture arrays, or (the naive binding) one 2D

@@ -53,6 +53,12 @@ bool drawDebugState(const render::Renderer& renderer, const Scene& scene, render
     ImGui::Text("terrain tiles: %d resident (%.1f of %.0f MiB), %d pending; view %d tiles, waiting for %d; %zu evicted",
                 st.terrainTilesResident, double(st.terrainBytes) / (1 << 20), double(st.terrainBudgetBytes) / (1 << 20),
                 st.terrainTilesPending, st.terrainViewTiles, st.terrainViewMissing, st.terrainEvictions);
+  if (st.streamingBuildings)
+    ImGui::Text("building tiles: %d resident (%zu buildings, %.1f MiB), %d pending; view %d tiles, waiting for %d%s; "
+                "%zu evicted",
+                st.buildingTilesResident, st.buildingsResident, double(st.buildingBytes) / (1 << 20),
+                st.buildingTilesPending, st.buildingViewTiles, st.buildingViewMissing,
+                st.buildingBudgetLimited ? " (some left out for the budget)" : "", st.buildingEvictions);
   if (ImGui::BeginTable("images", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY,
                         ImVec2(0, 160))) {
     ImGui::TableSetupColumn("photo");
