@@ -1,6 +1,6 @@
 // What the benchmarks share: wall and process-CPU timing, medians, a self-removing work
-// directory, and the machine facts printed beside the figures. Header-only (each bench/*.cpp is
-// its own executable).
+// directory, the process's resident memory, and the machine facts printed beside the figures.
+// Header-only (each bench/*.cpp is its own executable).
 #pragma once
 
 #include "hv/camera/camera.h"
@@ -103,6 +103,16 @@ inline int cpuCount() {
   CPU_ZERO(&set);
   if (sched_getaffinity(0, sizeof(set), &set) == 0) return CPU_COUNT(&set);
   return int(sysconf(_SC_NPROCESSORS_ONLN));
+}
+
+// A field of /proc/self/status in kB ("VmHWM:": this process's peak resident memory, "VmRSS:":
+// its resident memory now); -1 when it is not there.
+inline long residentKb(const char* field) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind(field, 0) == 0) return std::stol(line.substr(std::string(field).size()));
+  return -1;
 }
 
 inline std::string loadAverage() {

@@ -17,22 +17,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <thread>
-
-namespace {
-
-long residentKb(const char* field) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind(field, 0) == 0) return std::stol(line.substr(std::string(field).size()));
-  return -1;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) {
@@ -61,7 +48,7 @@ int main(int argc, char** argv) {
         },
         diag);
     std::printf("whole: %zu tiles, %zu buildings, %zu triangles, %.0f ms, peak RSS %ld MiB\n", src.tilesRead, buildings,
-                triangles, hv::bench::msSince(t0), residentKb("VmHWM:") / 1024);
+                triangles, hv::bench::msSince(t0), hv::bench::residentKb("VmHWM:") / 1024);
     return 0;
   }
   hv::Diagnostics diag;
@@ -74,7 +61,7 @@ int main(int argc, char** argv) {
   const auto set = hv::footprintTileSet(path, hv::FootprintFields{}, hv::SourceGeoref{}, options, nullptr, -100.0,
                                         1000.0, info, diag);
   std::printf("cameras %.0f ms; tile set: %zu tiles, %zu features, indexed in %.0f ms, RSS %ld MiB\n", camerasMs,
-              set->boxes.size(), info.features, hv::bench::msSince(t1), residentKb("VmRSS:") / 1024);
+              set->boxes.size(), info.features, hv::bench::msSince(t1), hv::bench::residentKb("VmRSS:") / 1024);
   hv::Aabb all;
   for (const hv::Aabb& b : set->boxes) all.extend(b);
   const glm::dvec3 origin = glm::round(all.center());
@@ -110,6 +97,7 @@ int main(int argc, char** argv) {
         stream.residentTiles(), double(stream.residentBytes()) / (1 << 20));
     ++n;
   }
-  std::printf("stream: %.0f ms in all, peak RSS %ld MiB\n", hv::bench::msSince(t0), residentKb("VmHWM:") / 1024);
+  std::printf("stream: %.0f ms in all, peak RSS %ld MiB\n", hv::bench::msSince(t0),
+              hv::bench::residentKb("VmHWM:") / 1024);
   return diag.ok() ? 0 : 1;
 }

@@ -20,14 +20,6 @@
 
 namespace {
 
-long residentKb(const char* field) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind(field, 0) == 0) return std::stol(line.substr(std::string(field).size()));
-  return -1;
-}
-
 // Rolling hills with metre-scale roughness (a DTM of a city's ground).
 float height(int i, int j) {
   const double x = i, y = j;
@@ -63,7 +55,7 @@ int main() {
     wholeTriangles = mesh.triangles.size();
   }
   const double wholeMs = hv::bench::msSince(t0);
-  const long wholePeak = residentKb("VmHWM:");
+  const long wholePeak = hv::bench::residentKb("VmHWM:");
   std::ofstream("/proc/self/clear_refs") << "5";  // Linux: the peak starts again from here
 
   t0 = hv::bench::Clock::now();
@@ -78,7 +70,7 @@ int main() {
   const hv::TerrainSelection sel = tree.select(cameras, hv::kTerrainTolerancePx, hv::kTerrainTriangleBudget);
   const hv::Mesh tiles = tree.mesh(sel.nodes);
   const double tilesMs = hv::bench::msSince(t0);
-  const long tilesPeak = residentKb("VmHWM:");
+  const long tilesPeak = hv::bench::residentKb("VmHWM:");
 
   std::printf("%-10s %10s %12s %14s\n", "terrain", "seconds", "triangles", "peak RSS MB");
   std::printf("%-10s %10.2f %12zu %14.0f\n", "whole", wholeMs / 1000.0, wholeTriangles, wholePeak / 1024.0);

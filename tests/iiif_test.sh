@@ -19,13 +19,8 @@
 # 77 (skipped) unless CI is set, where it fails. Prints "N passed, M failed".
 set -uo pipefail
 
-HV=${1:?usage: iiif_test.sh path/to/histoview [scratch-dir]}
-HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-iiif-test.XXXXXX")}
-rm -rf "$DIR"
-mkdir -p "$DIR"
-DIR=$(cd "$DIR" && pwd)
+source "$ROOT/tests/services/harness.sh" "$@"  # HV, DIR; checks, runs, clean-up
 
 missing() {
   if [[ -n ${CI:-} ]]; then echo "FAIL  $1 (CI is set: tools/install-deps.sh installs it)"; exit 1; fi
@@ -42,8 +37,6 @@ unset HV_NO_CACHE HV_CACHE_MAX_MB
 export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
 RUN_LIMIT=60
 
-source "$ROOT/tests/services/harness.sh"
-
 # --- the city, its photographs as pyramidal TIFFs, the stack
 run demo demo --out "$DIR" --generate-only --buildings 6 --photos 6 --views 2
 expect_clean demo 0
@@ -55,14 +48,7 @@ for id in $ids; do
 done
 wait
 check "photographs converted to tiled pyramidal TIFFs" test "$(ls "$city/iiif" | wc -l)" -eq "$(wc -w <<<"$ids")"
-port=$(free_port)
-if ! "$ROOT/tools/services.sh" up "$city" "$port" >"$DIR/up.out" 2>&1; then
-  fail "services.sh up: $(tail -3 "$DIR/up.out")"
-  echo "$passed passed, $failed failed"
-  exit 1
-fi
-pass "services.sh up on 127.0.0.1:$port"
-URL=http://127.0.0.1:$port
+stack_up
 state=$(sed -n 's/.*(state: \(.*\))$/\1/p' "$DIR/up.out")
 first=${ids%% *}
 check "iipsrv answers a IIIF 2 info.json" python3 - "$URL/iiif?IIIF=$first.tif/info.json" <<'PY'
@@ -174,11 +160,7 @@ for c in "${cases[@]}"; do
   ) &
   while (($(jobs -rp | wc -l) >= 3)); do sleep 0.2; done
 done
-wait_start=$SECONDS
-for c in "${cases[@]}"; do
-  read -r name _ <<<"$c"
-  while [[ ! -s $DIR/fault-$name.status ]] && ((SECONDS - wait_start < RUN_LIMIT + 10)); do sleep 0.2; done
-done
+wait_faults $((RUN_LIMIT + 10)) "${cases[@]}"
 for c in "${cases[@]}"; do
   read -r name id image why <<<"$c"
   [[ -s $DIR/fault-$name.status ]] || { fail "fault $name: the run never ended"; continue; }

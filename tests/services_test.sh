@@ -17,13 +17,8 @@
 # or MapServer is missing. Prints "N passed, M failed".
 set -uo pipefail
 
-HV=${1:?usage: services_test.sh path/to/histoview [scratch-dir]}
-HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-services-test.XXXXXX")}
-rm -rf "$DIR"
-mkdir -p "$DIR"
-DIR=$(cd "$DIR" && pwd)
+source "$ROOT/tests/services/harness.sh" "$@"  # HV, DIR; checks, runs, clean-up
 
 for tool in lighttpd python3 timeout; do
   command -v "$tool" >/dev/null || { echo "skipped: $tool not found (tools/install-deps.sh)"; exit 77; }
@@ -39,8 +34,6 @@ export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL
 export HV_FAULT_SLOW_S=12
 RUN_LIMIT=60                             # seconds any one histoview run may take
 
-source "$ROOT/tests/services/harness.sh"
-
 # --- the city and the stack
 run demo demo --out "$DIR" --generate-only --buildings 8 --photos 12 --views 3
 expect_clean demo 0
@@ -48,14 +41,7 @@ expect_clean demo 0
 printf '{"crs": "EPSG:2154", "cameras": {"path": "cameras.json"}}\n' >"$city/cameras-file.json"
 run cameras-export cameras export "$city/cameras-file.json" --ogr "$city/cameras.gpkg"
 expect_clean cameras-export 0
-port=$(free_port)
-if ! "$ROOT/tools/services.sh" up "$city" "$port" >"$DIR/up.out" 2>&1; then
-  fail "services.sh up: $(tail -3 "$DIR/up.out")"
-  echo "$passed passed, $failed failed"
-  exit 1
-fi
-pass "services.sh up on 127.0.0.1:$port"
-URL=http://127.0.0.1:$port
+stack_up
 WCS="WCS:$URL/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm"
 WFS="WFS:$URL/mapserv?map=city&TYPENAME=ms:buildings"
 OAPIF="OAPIF:$URL/mapserv/city/ogcapi/collections/buildings"
@@ -200,11 +186,7 @@ for c in "${cases[@]}"; do
   while (($(jobs -rp | wc -l) >= 3)); do sleep 0.2; done
   fault_start $c
 done
-wait_start=$SECONDS
-for c in "${cases[@]}"; do
-  read -r name _ <<<"$c"
-  while [[ ! -s $DIR/fault-$name.status ]] && ((SECONDS - wait_start < RUN_LIMIT + 30)); do sleep 0.2; done
-done
+wait_faults $((RUN_LIMIT + 30)) "${cases[@]}"
 for c in "${cases[@]}"; do
   read -r name source f _ <<<"$c"
   if [[ -s $DIR/fault-$name.status ]]; then fault_check "$name" "$source" "$f"

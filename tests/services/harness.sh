@@ -1,7 +1,18 @@
 # Sourced by the tests of the local service stack (tests/services_test.sh, tests/iiif_test.sh):
-# their checks, tallies and runs of histoview, and the stack's clean-up. The sourcing script sets
-# DIR (its scratch folder), HV (histoview), ROOT (the repository) and RUN_LIMIT (seconds any one
-# histoview run may take) first; it reads $passed and $failed at the end.
+# their arguments, checks, tallies and runs of histoview, and the stack's clean-up. The sourcing
+# script sets ROOT (the repository) first and passes its own arguments,
+#   source "$ROOT/tests/services/harness.sh" "$@"     (path/to/histoview [scratch-dir])
+# which set HV (histoview, an absolute path) and DIR (the scratch folder, emptied; by default a
+# new one under $TMPDIR named after the script). It sets RUN_LIMIT (seconds any one histoview run
+# may take) before its first `run`, and reads $passed and $failed at the end.
+
+script=$(basename "$0" .sh)
+HV=${1:?usage: $script.sh path/to/histoview [scratch-dir]}
+HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
+DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-${script//_/-}.XXXXXX")}
+rm -rf "$DIR"
+mkdir -p "$DIR"
+DIR=$(cd "$DIR" && pwd)
 
 passed=0
 failed=0
@@ -52,3 +63,23 @@ expect_out() {
   fi
 }
 free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+# stack_up: tools/services.sh serves $city on a free loopback port (its output in $DIR/up.out);
+# sets port and URL. When it does not start, the test ends there, failed.
+stack_up() {
+  port=$(free_port)
+  if ! "$ROOT/tools/services.sh" up "$city" "$port" >"$DIR/up.out" 2>&1; then
+    fail "services.sh up: $(tail -3 "$DIR/up.out")"
+    echo "$passed passed, $failed failed"
+    exit 1
+  fi
+  pass "services.sh up on 127.0.0.1:$port"
+  URL=http://127.0.0.1:$port
+}
+# wait_faults SECONDS CASE...: waits until each case's run has written $DIR/fault-NAME.status
+# (NAME: the case's first word), SECONDS at most in all.
+wait_faults() {
+  local limit=$1 start=$SECONDS c; shift
+  for c in "$@"; do
+    while [[ ! -s $DIR/fault-${c%% *}.status ]] && ((SECONDS - start < limit)); do sleep 0.2; done
+  done
+}

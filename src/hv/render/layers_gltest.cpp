@@ -11,6 +11,7 @@
 #include "hv/render/renderer.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/scene/native/raycast.h"
+#include "hv/testing/hidden_facade.h"
 
 #include <gtest/gtest.h>
 
@@ -19,16 +20,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 
 namespace hv::render {
 namespace {
 
 namespace fs = std::filesystem;
-using layers::ImageLayerInfo;
 using layers::LayerExport;
-using layers::LayerExportSettings;
 
 bool magentaPixel(const std::uint8_t* c) { return c[3] > 0 && c[0] > 240 && c[1] < 15 && c[2] > 240; }
 
@@ -45,123 +43,35 @@ TEST(LayeredRendering, PaintedHiddenFacadeMatchesTheCpuReference) {
   const Scene scene = loadScene(summary.scenePath, loadDiag);
 
   // The photograph where a building (layer 1) hides another (layer 2) on the most rays, and the
-  // image layer holding the hidden one (the rule of DemoLayers.PaintedHiddenFacade...).
-  LayerExportSettings settings;
-  settings.prefill = false;
-  std::size_t photo = scene.photos.size(), layerIndex = 0, bestRays = 0;
-  std::uint32_t occluder = 0, hidden = 0;
-  LayerExport ex;
-  for (std::size_t i = 0; i < scene.photos.size(); ++i) {
-    LayerExportSettings s = settings;
-    s.width = scene.photos[i].camera.width / 4;
-    s.height = scene.photos[i].camera.height / 4;
-    Diagnostics diag;
-    LayerExport e = layers::exportLayers(scene, i, s, diag);
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> pairs;
-    const layers::PixelHits& h = e.hits;
-    for (std::size_t p = 0; p < h.pixelCount(); ++p) {
-      if (h.first[p] == h.first[p + 1]) continue;
-      const std::uint32_t front = h.hits[h.first[p]].object;
-      if (e.objects.objects[front].kind != layers::SceneObject::Kind::Building ||
-          e.visibility.layerOfHit[h.first[p]] != 1)
-        continue;
-      for (std::uint32_t k = h.first[p] + 1; k < h.first[p + 1]; ++k)
-        if (e.visibility.layerOfHit[k] == 2 &&
-            e.objects.objects[h.hits[k].object].kind == layers::SceneObject::Kind::Building) {
-          ++pairs[{front, h.hits[k].object}];
-          break;
-        }
-    }
-    for (const auto& [pair, n] : pairs) {
-      if (n <= bestRays) continue;
-      for (std::size_t j = 0; j < e.imageLayers.size(); ++j) {
-        const ImageLayerInfo& l = e.imageLayers[j];
-        if (l.visibilityLayer == 2 && std::count(l.objects.begin(), l.objects.end(), pair.second)) {
-          photo = i, layerIndex = j, bestRays = n, occluder = pair.first, hidden = pair.second;
-          settings.width = s.width;
-          settings.height = s.height;
-          ex = e;
-          break;
-        }
-      }
-    }
-  }
-  ASSERT_LT(photo, scene.photos.size()) << "no photograph of the demo city sees a building behind another";
+  // image layer holding the hidden one (as DemoLayers.PaintedHiddenFacade... finds it).
+  std::optional<testing::HiddenFacade> found = testing::findHiddenFacade(scene);
+  ASSERT_TRUE(found) << "no photograph of the demo city sees a building behind another";
+  testing::HiddenFacade& f = *found;
+  const std::size_t photo = f.photo;
+  const std::uint32_t occluder = f.occluder, hidden = f.hidden;
+  const LayerExport& ex = f.ex;
   const Camera& camera = scene.photos[photo].camera;
-  const ImageLayerInfo& info = ex.imageLayers[layerIndex];
 
   // The artist paints the hidden building's layer-2 pixels magenta (no photograph of the demo has
   // it), in the document the file is written from; the file is then read back as the renderer's
   // caller would.
-  const auto hiddenAt = [&](int x, int y) {
-    if (x < 0 || y < 0 || x >= ex.hits.width || y >= ex.hits.height) return false;
-    const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
-    const std::int64_t k = ex.visibility.hitOfLayer(ex.hits, p, 2);
-    return k >= 0 && ex.hits.hits[std::size_t(k)].object == hidden;
-  };
-  int painted = 0;
-  for (layers::OraLayer& l : ex.document.layers) {
-    if (l.name != info.name) continue;
-    for (int y = 0; y < l.rgba.height; ++y)
-      for (int x = 0; x < l.rgba.width; ++x)
-        if (hiddenAt(l.x + x, l.y + y)) {
-          std::uint8_t* c = l.rgba.px(x, y);
-          c[0] = 255, c[1] = 0, c[2] = 255, c[3] = 255;
-          ++painted;
-        }
-  }
-  ASSERT_GT(painted, 20);
+  ASSERT_GT(testing::paintHiddenFacade(f, glm::u8vec4(255, 0, 255, 255)), 20);
   const fs::path ora = fs::path(dir) / "painted.ora";
   layers::writeOpenRaster(ora.string(), ex.document);
   Diagnostics diag;
   const layers::ImportedLayers in = layers::importLayers(ora.string(), camera);
   const auto layered =
-      std::make_shared<layers::LayeredPhotograph>(layers::layeredPhotograph(scene, photo, in, settings, diag));
+      std::make_shared<layers::LayeredPhotograph>(layers::layeredPhotograph(scene, photo, in, f.settings, diag));
   ASSERT_TRUE(diag.errors.empty()) << diag.errors.front();
   ASSERT_GE(layered->depthMaps.size(), 2u);
 
   // The viewpoint: the photograph's centre turned about the vertical around the hidden façade's
   // points the occluder hides, raised, looking at their centroid; the one that sees most of both.
   const RayCaster caster(ex.objects.geometry);
-  std::vector<glm::dvec3> hiddenPoints, frontPoints;
-  glm::dvec3 centroid(0.0);
-  for (int y = 0; y < ex.hits.height; ++y)
-    for (int x = 0; x < ex.hits.width; ++x) {
-      const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
-      const std::int64_t k = ex.visibility.hitOfLayer(ex.hits, p, 2);
-      const std::optional<glm::dvec3> ray = layers::pixelRay(ex.camera, x, y);
-      if (k < 0 || !ray || ex.hits.hits[std::size_t(k)].object != hidden ||
-          ex.hits.hits[ex.hits.first[p]].object != occluder)
-        continue;
-      hiddenPoints.push_back(ex.camera.center + *ray * ex.hits.hits[std::size_t(k)].depth);
-      frontPoints.push_back(ex.camera.center + *ray * ex.hits.hits[ex.hits.first[p]].depth);
-      centroid += hiddenPoints.back();
-    }
-  ASSERT_FALSE(hiddenPoints.empty());
-  centroid /= double(hiddenPoints.size());
-  const auto seenFrom = [&](const glm::dvec3& v, const glm::dvec3& x) {
-    const double d = glm::length(x - v);
-    const std::optional<RayHit> h = caster.intersect(v, (x - v) / d);
-    return h && std::abs(h->t - d) < 0.05 + 1e-3 * d;
-  };
-  glm::dvec3 viewCentre(0.0);
-  std::size_t mostSeen = 0;
-  for (double deg : {-60.0, -40.0, -20.0, 20.0, 40.0, 60.0})
-    for (double up : {0.0, 15.0, 40.0}) {
-      const double a = deg * 3.14159265358979 / 180.0;
-      const glm::dvec3 r = camera.center - centroid;
-      const glm::dvec3 v =
-          centroid + glm::dvec3(std::cos(a) * r.x - std::sin(a) * r.y, std::sin(a) * r.x + std::cos(a) * r.y, r.z + up);
-      std::size_t seenHidden = 0, seenFront = 0;
-      for (std::size_t i = 0; i < hiddenPoints.size(); i += 1 + hiddenPoints.size() / 400) {
-        seenHidden += seenFrom(v, hiddenPoints[i]);
-        seenFront += seenFrom(v, frontPoints[i]);
-      }
-      const std::size_t seen = std::min(seenHidden, seenFront);
-      if (seen > mostSeen) mostSeen = seen, viewCentre = v;
-    }
-  ASSERT_GT(mostSeen, 0u);
-  const Camera view = lookAtCamera("view", viewCentre, centroid, 200, 150, 150.0);
+  const testing::FacadeViewpoint viewpoint = testing::facadeViewpoint(f, caster);
+  ASSERT_FALSE(viewpoint.hiddenPoints.empty());
+  ASSERT_GT(viewpoint.seen, 0u);
+  const Camera view = lookAtCamera("view", viewpoint.centre, viewpoint.centroid, 200, 150, 150.0);
 
   // GL: the layered photograph alone (the others excluded), hard edges (no feathering), as the
   // CPU reference below blends it.
@@ -262,27 +172,7 @@ TEST(LayeredRendering, PaintedHiddenFacadeMatchesTheCpuReference) {
   // the painted region: in front of D_2, so the painting never lands there (the test is
   // two-sided; a one-sided test paints them). Seen from halfway between such a wall and the
   // façade behind it, looking at the wall.
-  std::vector<std::pair<glm::dvec3, glm::dvec3>> farWalls;  // (wall point, façade point behind it)
-  for (int y = 1; y + 1 < ex.hits.height; ++y)
-    for (int x = 1; x + 1 < ex.hits.width; ++x) {
-      bool interior = true;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const std::size_t q = std::size_t(y + dy) * std::size_t(ex.hits.width) + std::size_t(x + dx);
-          interior = interior && hiddenAt(x + dx, y + dy) && ex.hits.hits[ex.hits.first[q]].object == occluder;
-        }
-      const std::optional<glm::dvec3> ray = layers::pixelRay(ex.camera, x, y);
-      if (!interior || !ray) continue;
-      const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
-      const double behind = ex.hits.hits[std::size_t(ex.visibility.hitOfLayer(ex.hits, p, 2))].depth;
-      double t = ex.hits.hits[ex.hits.first[p]].depth + 1e-3;
-      while (const std::optional<RayHit> h = caster.intersect(ex.camera.center, *ray, t)) {
-        if (h->t >= behind - 0.5) break;
-        if (ex.objects.objectOfTriangle[h->triangle] == occluder && glm::dot(h->normal, *ray) > 0.0)
-          farWalls.push_back({h->position, ex.camera.center + *ray * behind});
-        t = h->t + 1e-3;
-      }
-    }
+  const std::vector<std::pair<glm::dvec3, glm::dvec3>> farWalls = testing::occluderFarWalls(f, caster);
   ASSERT_GE(farWalls.size(), 20u);
   const auto& [wall, facade] = farWalls[farWalls.size() / 2];
   const Camera between =

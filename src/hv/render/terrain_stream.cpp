@@ -15,19 +15,11 @@ TerrainStream::TerrainStream(const TerrainQuadtree& tree, glm::dvec3 origin, int
     : tree_(tree.sharedSource(), tree.options()), origin_(origin), budget_(memoryBytes) {
   if (workerThreads < 0) throw std::invalid_argument("terrain stream: negative worker thread count");
   if (memoryBytes == 0) throw std::invalid_argument("terrain stream: zero memory budget");
-  for (int i = 0; i < workerThreads; ++i) workers_.emplace_back([this] { workerLoop(); });
+  queue_ = std::make_unique<TileQueue<Job, Done>>(
+      workerThreads, [this](std::uint64_t id, const Job& job) { return read(TerrainNodeId(id), job); });
 }
 
-TerrainStream::~TerrainStream() {
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-    queued_.clear();
-    order_.clear();
-  }
-  workCv_.notify_all();
-  for (std::thread& t : workers_) t.join();
-}
+TerrainStream::~TerrainStream() = default;
 
 std::size_t TerrainStream::tileBytesBound(TerrainNodeId id) const {
   const glm::ivec2 n = tree_.tileCellCount(id);
@@ -64,24 +56,7 @@ void TerrainStream::request(TerrainNodeId id, double priority) {
     if (it == resident_.end()) return;  // asked for again once its ancestors are back
     job.ancestors.push_back(it->second.tile);
   }
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (running_.count(id)) return;
-    if (std::any_of(ready_.begin(), ready_.end(), [&](const Done& d) { return d.mesh.id == id; })) return;
-    if (const auto it = queued_.find(id); it != queued_.end()) {
-      if (priority < it->second.priority) {
-        order_.erase({it->second.priority, it->second.seq, id});
-        it->second.priority = priority;
-        order_.insert({priority, it->second.seq, id});
-      }
-      return;
-    }
-    job.priority = priority;
-    job.seq = nextSeq_++;
-    order_.insert({priority, job.seq, id});
-    queued_.emplace(id, std::move(job));
-  }
-  workCv_.notify_one();
+  queue_->request(id, priority, std::move(job));
 }
 
 TerrainCut TerrainStream::select(const Camera& camera, double tolerancePx, double priority,
@@ -200,32 +175,6 @@ TerrainStream::Done TerrainStream::read(TerrainNodeId id, const Job& job) const 
   return d;
 }
 
-// Takes the queue's head and reads it with the lock released. False when nothing is queued.
-bool TerrainStream::runOne(std::unique_lock<std::mutex>& lock) {
-  if (order_.empty()) return false;
-  const TerrainNodeId id = std::get<2>(*order_.begin());
-  order_.erase(order_.begin());
-  Job job = std::move(queued_.at(id));
-  queued_.erase(id);
-  running_.insert(id);
-  lock.unlock();
-  Done d = read(id, job);
-  lock.lock();
-  running_.erase(id);
-  ready_.push_back(std::move(d));
-  doneCv_.notify_all();
-  return true;
-}
-
-void TerrainStream::workerLoop() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    workCv_.wait(lock, [&] { return stop_ || !order_.empty(); });
-    if (stop_) return;
-    runOne(lock);
-  }
-}
-
 std::vector<TerrainTileMesh> TerrainStream::collect(std::deque<Done>& done) {
   std::vector<TerrainTileMesh> out;
   for (Done& d : done) {
@@ -252,35 +201,14 @@ std::vector<TerrainTileMesh> TerrainStream::collect(std::deque<Done>& done) {
 }
 
 std::vector<TerrainTileMesh> TerrainStream::poll(std::chrono::microseconds inlineBudget) {
-  std::deque<Done> done;
-  {
-    std::unique_lock<std::mutex> lock(mutex_);
-    if (workers_.empty()) {
-      const auto start = std::chrono::steady_clock::now();
-      while (runOne(lock) && std::chrono::steady_clock::now() - start < inlineBudget) {
-      }
-    }
-    done.swap(ready_);
-  }
+  std::deque<Done> done = queue_->take(inlineBudget);
   return collect(done);
 }
 
 void TerrainStream::waitAll(const std::function<void(TerrainTileMesh&&)>& sink) {
-  for (;;) {
-    std::deque<Done> done;
-    bool finished = false;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      if (workers_.empty())
-        runOne(lock);
-      else
-        doneCv_.wait(lock, [&] { return !ready_.empty() || (order_.empty() && running_.empty()); });
-      done.swap(ready_);
-      finished = order_.empty() && running_.empty();
-    }
+  queue_->waitAll([&](std::deque<Done>& done) {
     for (TerrainTileMesh& m : collect(done)) sink(std::move(m));
-    if (finished) return;
-  }
+  });
 }
 
 bool TerrainStream::boxOf(TerrainNodeId id, glm::vec3& lo, glm::vec3& hi) const {
@@ -295,9 +223,6 @@ std::size_t TerrainStream::trianglesOf(TerrainNodeId id) const {
   return it == resident_.end() ? 0 : it->second.triangles;
 }
 
-std::size_t TerrainStream::pendingTiles() const {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return queued_.size() + running_.size() + ready_.size();
-}
+std::size_t TerrainStream::pendingTiles() const { return queue_->pending(); }
 
 }  // namespace hv::render

@@ -22,28 +22,24 @@
 // - A tile that cannot be read (the source throws) is reported once by poll() and never asked for
 //   again: its parent stays in the cuts.
 //
-// Member functions are meant to be called from one thread (the render thread); the workers only
-// touch the queue and the results under the lock.
+// Member functions are meant to be called from one thread (the render thread); the reads go
+// through the work queue the building stream shares (render/tile_queue.h).
 #pragma once
 
 #include "hv/camera/camera.h"
+#include "hv/render/tile_queue.h"
 #include "hv/scene/terrain_quadtree.h"
 
 #include <glm/glm.hpp>
 
 #include <chrono>
-#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <set>
 #include <string>
-#include <thread>
-#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -107,7 +103,7 @@ class TerrainStream {
   std::size_t peakBytes() const { return peakBytes_; }
   std::size_t memoryBudget() const { return budget_; }
   std::size_t evictions() const { return evictions_; }
-  int workerThreads() const { return int(workers_.size()); }
+  int workerThreads() const { return queue_->workerThreads(); }
   const TerrainQuadtree& tree() const { return tree_; }
   // An upper bound of a node's bytes (its mesh with skirts and its samples), known before it is read.
   std::size_t tileBytesBound(TerrainNodeId id) const;
@@ -121,21 +117,16 @@ class TerrainStream {
     std::uint64_t lastUsed = 0;
   };
   struct Job {
-    std::vector<std::shared_ptr<const TerrainTile>> ancestors;
-    double priority = 0.0;
-    std::uint64_t seq = 0;
+    std::vector<std::shared_ptr<const TerrainTile>> ancestors;  // for the tile's skirts
   };
   struct Done {
     TerrainTileMesh mesh;
     std::shared_ptr<const TerrainTile> tile;
   };
-  using Key = std::tuple<double, std::uint64_t, TerrainNodeId>;
 
   void request(TerrainNodeId id, double priority);
   bool touch(TerrainNodeId id);  // false when it does not fit what is left of the budget
-  bool runOne(std::unique_lock<std::mutex>& lock);
   Done read(TerrainNodeId id, const Job& job) const;
-  void workerLoop();
   std::vector<TerrainTileMesh> collect(std::deque<Done>& done);
 
   TerrainQuadtree tree_;  // its const, thread-safe part only (readTile, skirtDepth, tileMesh)
@@ -149,16 +140,8 @@ class TerrainStream {
   std::size_t frameBytes_ = 0, residentBytes_ = 0, peakBytes_ = 0, evictions_ = 0;
   std::uint64_t frame_ = 0;
 
-  // Shared with the workers.
-  mutable std::mutex mutex_;
-  std::condition_variable workCv_, doneCv_;
-  bool stop_ = false;
-  std::uint64_t nextSeq_ = 0;
-  std::map<TerrainNodeId, Job> queued_;
-  std::set<Key> order_;
-  std::set<TerrainNodeId> running_;
-  std::deque<Done> ready_;
-  std::vector<std::thread> workers_;
+  // Last: destroyed (its workers joined) before anything they read.
+  std::unique_ptr<TileQueue<Job, Done>> queue_;
 };
 
 }  // namespace hv::render

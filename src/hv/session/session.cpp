@@ -2,6 +2,7 @@
 
 #include "hv/io/cameras_json.h"
 #include "hv/scene/robust_extent.h"
+#include "hv/session/make_renderer.h"
 #include "hv/session/outputs.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/layers/native/layer_import.h"
@@ -321,9 +322,15 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
     throw std::runtime_error("--strict: " + std::to_string(diag.errors.size()) +
                              " input item(s) would be left out (named above); nothing rendered");
   session->context = makeContext ? makeContext() : gpu::createHeadlessContext();
-  session->renderer = std::make_unique<render::Renderer>(session->scene, settings, diag);
-  applyLayers(session->scene, *session->renderer, diag);
+  session->renderer = makeRenderer(session->scene, settings, diag);
   return session;
+}
+
+std::unique_ptr<render::Renderer> makeRenderer(const Scene& scene, const render::RenderSettings& settings,
+                                               Diagnostics& diag) {
+  auto renderer = std::make_unique<render::Renderer>(scene, settings, diag);
+  applyLayers(scene, *renderer, diag);
+  return renderer;
 }
 
 }  // namespace hv::app

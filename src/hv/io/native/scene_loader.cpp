@@ -56,15 +56,15 @@ using nlohmann::json;
 // the camera's, leaves that photograph out, named. The descriptions are fetched a few at a time
 // (through the response cache).
 void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
-  std::vector<std::size_t> todo;
+  std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < photos.size(); ++i)
-    if (isIiifInfoUrl(photos[i].imagePath)) todo.push_back(i);
-  if (todo.empty()) return;
+    if (isIiifInfoUrl(photos[i].imagePath)) pending.push_back(i);
+  if (pending.empty()) return;
   std::vector<std::string> errors(photos.size());
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
-    for (std::size_t k; (k = next++) < todo.size();) {
-      Photo& p = photos[todo[k]];
+    for (std::size_t k; (k = next++) < pending.size();) {
+      Photo& p = photos[pending[k]];
       const std::string url = p.imagePath;
       try {
         const IiifImageInfo info = parseIiifInfo(readRemote(url, kMaxJsonBytes, "", RemoteCache::Yes), url);
@@ -75,11 +75,11 @@ void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
                    std::to_string(info.width) + "x" + std::to_string(info.height) + ": " + request.url);
         p.imagePath = request.url;
       } catch (const std::exception& e) {
-        errors[todo[k]] = inputMessage("camera '" + p.camera.id + "'", "image", e.what()) + " (photograph left out)";
+        errors[pending[k]] = inputMessage("camera '" + p.camera.id + "'", "image", e.what()) + " (photograph left out)";
       }
     }
   };
-  const std::size_t threads = std::min<std::size_t>(todo.size(), 4);
+  const std::size_t threads = std::min<std::size_t>(pending.size(), 4);
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();

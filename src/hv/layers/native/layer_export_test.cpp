@@ -6,6 +6,7 @@
 #include "hv/layers/native/layer_import.h"
 #include "hv/layers/native/openraster.h"
 #include "hv/scene/native/raycast.h"
+#include "hv/testing/hidden_facade.h"
 
 #include <gtest/gtest.h>
 #include <zip.h>
@@ -14,7 +15,6 @@
 
 #include <algorithm>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <map>
 
@@ -179,9 +179,7 @@ TEST_F(DemoLayers, BuildingHidingAnotherGivesAPrefilledSecondLayer) {
 
 // Paints every pixel of the first "L2 " layer of an .ora with `colour`, as an artist would: the
 // archive edited in place with a zip library, the layer's PNG decoded, painted, encoded.
-// `only`: the layer of that name, painted where `where(x, y)` (the layer's pixels) is true.
-std::string paintFirstLayer2(const fs::path& ora, glm::u8vec4 colour, const std::string& only = "",
-                             const std::function<bool(int, int)>& where = nullptr) {
+std::string paintFirstLayer2(const fs::path& ora, glm::u8vec4 colour) {
   int err = 0;
   zip_t* z = zip_open(ora.c_str(), 0, &err);
   EXPECT_NE(z, nullptr);
@@ -200,8 +198,7 @@ std::string paintFirstLayer2(const fs::path& ora, glm::u8vec4 colour, const std:
   d.load_buffer(xml.data(), xml.size());
   std::string name, src;
   for (pugi::xml_node l : d.child("image").child("stack").children("layer"))
-    if (only.empty() ? std::string(l.attribute("name").value()).rfind("L2 ", 0) == 0
-                     : l.attribute("name").value() == only) {
+    if (std::string(l.attribute("name").value()).rfind("L2 ", 0) == 0) {
       name = l.attribute("name").value();
       src = l.attribute("src").value();
       break;
@@ -215,8 +212,7 @@ std::string paintFirstLayer2(const fs::path& ora, glm::u8vec4 colour, const std:
   Image8 img = decodeImage(png.data(), png.size(), src, 4);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
-      if (!where || where(x, y))
-        for (int c = 0; c < 4; ++c) img.at(x, y, c) = colour[c];
+      for (int c = 0; c < 4; ++c) img.at(x, y, c) = colour[c];
   static std::vector<std::uint8_t> painted;  // zip_close reads it
   painted = encodePng(img, src);
   zip_source_t* s = zip_source_buffer(z, painted.data(), painted.size(), 0);
@@ -298,62 +294,22 @@ TEST_F(DemoLayers, RoundTripThroughAnEditAndSceneJson) {
 TEST_F(DemoLayers, PaintedHiddenFacadeShowsFromAnotherViewpointNeverOnItsOccluder) {
   // A photograph where a building (layer 1) hides another (layer 2) on the most rays, and the
   // image layer holding the hidden one.
-  LayerExportSettings settings;
-  settings.prefill = false;
-  std::size_t photo = scene_->photos.size(), layerIndex = 0, bestRays = 0;
-  std::uint32_t occluder = 0, hidden = 0;
-  LayerExport ex;
-  for (std::size_t i = 0; i < scene_->photos.size(); ++i) {
-    LayerExportSettings s = settings;
-    s.width = scene_->photos[i].camera.width / 4;
-    s.height = scene_->photos[i].camera.height / 4;
-    Diagnostics diag;
-    LayerExport e = exportLayers(*scene_, i, s, diag);
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> pairs;
-    const PixelHits& h = e.hits;
-    for (std::size_t p = 0; p < h.pixelCount(); ++p) {
-      if (h.first[p] == h.first[p + 1]) continue;
-      const std::uint32_t front = h.hits[h.first[p]].object;
-      if (e.objects.objects[front].kind != SceneObject::Kind::Building || e.visibility.layerOfHit[h.first[p]] != 1)
-        continue;
-      for (std::uint32_t k = h.first[p] + 1; k < h.first[p + 1]; ++k)
-        if (e.visibility.layerOfHit[k] == 2 &&
-            e.objects.objects[h.hits[k].object].kind == SceneObject::Kind::Building) {
-          ++pairs[{front, h.hits[k].object}];
-          break;
-        }
-    }
-    for (const auto& [pair, n] : pairs) {
-      if (n <= bestRays) continue;
-      for (std::size_t j = 0; j < e.imageLayers.size(); ++j) {
-        const ImageLayerInfo& l = e.imageLayers[j];
-        if (l.visibilityLayer == 2 && std::count(l.objects.begin(), l.objects.end(), pair.second)) {
-          photo = i, layerIndex = j, bestRays = n, occluder = pair.first, hidden = pair.second;
-          settings.width = s.width;
-          settings.height = s.height;
-          ex = e;
-          break;
-        }
-      }
-    }
-  }
-  ASSERT_LT(photo, scene_->photos.size()) << "no photograph of the demo city sees a building behind another";
-  ASSERT_GE(bestRays, 20u);
+  std::optional<testing::HiddenFacade> found = testing::findHiddenFacade(*scene_);
+  ASSERT_TRUE(found) << "no photograph of the demo city sees a building behind another";
+  testing::HiddenFacade& f = *found;
+  ASSERT_GE(f.rays, 20u);
+  const std::size_t photo = f.photo;
+  const std::uint32_t occluder = f.occluder, hidden = f.hidden;
+  const LayerExport& ex = f.ex;
+  const LayerExportSettings& settings = f.settings;
   const Camera& camera = scene_->photos[photo].camera;
-  const ImageLayerInfo& info = ex.imageLayers[layerIndex];
 
   // The artist paints the hidden building where the guide outlines it (its layer-2 pixels), in a
   // colour no photograph of the demo has.
+  ASSERT_GT(testing::paintHiddenFacade(f, glm::u8vec4(255, 0, 255, 255)), 20);
   const fs::path sceneDir = fs::path(scene_->path).parent_path();
   const fs::path ora = sceneDir / "painted.ora";
   writeOpenRaster(ora.string(), ex.document);
-  const glm::u8vec4 magenta(255, 0, 255, 255);
-  const auto isHidden = [&](int x, int y) {
-    const std::size_t p = std::size_t(info.box.y0 + y) * std::size_t(ex.hits.width) + std::size_t(info.box.x0 + x);
-    const std::int64_t k = ex.visibility.hitOfLayer(ex.hits, p, 2);
-    return k >= 0 && ex.hits.hits[std::size_t(k)].object == hidden;
-  };
-  ASSERT_EQ(paintFirstLayer2(ora, magenta, info.name, isHidden), info.name);
 
   // Read back through scene.json, as the renderer's scene would.
   nlohmann::json doc;
@@ -370,50 +326,13 @@ TEST_F(DemoLayers, PaintedHiddenFacadeShowsFromAnotherViewpointNeverOnItsOcclude
   ASSERT_EQ(layered.depthMaps.size(), ex.visibility.layers.size());
   ASSERT_EQ(layered.subImages.size(), ex.imageLayers.size());
 
-  // Another viewpoint that sees the hidden façade and the occluder's face in front of it: around
-  // the façade's points that the occluder hides from the photograph, the photograph's centre turned
-  // about the vertical by up to 60 degrees and raised by up to 40 m, looking at their centroid; the
-  // one that sees most of both (the least of the two counts).
+  // Another viewpoint that sees the hidden façade and the occluder's face in front of it.
   const RayCaster caster(ex.objects.geometry);
   const auto isMagenta = [](const glm::dvec4& t) { return t.a > 0.99 && t.r > 0.99 && t.g < 0.01 && t.b > 0.99; };
-  std::vector<glm::dvec3> hiddenPoints, frontPoints;
-  glm::dvec3 centroid(0.0);
-  for (int y = 0; y < ex.hits.height; ++y)
-    for (int x = 0; x < ex.hits.width; ++x) {
-      const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
-      const std::int64_t k = ex.visibility.hitOfLayer(ex.hits, p, 2);
-      const std::optional<glm::dvec3> ray = pixelRay(ex.camera, x, y);
-      if (k < 0 || !ray || ex.hits.hits[std::size_t(k)].object != hidden ||
-          ex.hits.hits[ex.hits.first[p]].object != occluder)
-        continue;
-      hiddenPoints.push_back(ex.camera.center + *ray * ex.hits.hits[std::size_t(k)].depth);
-      frontPoints.push_back(ex.camera.center + *ray * ex.hits.hits[ex.hits.first[p]].depth);
-      centroid += hiddenPoints.back();
-    }
-  ASSERT_FALSE(hiddenPoints.empty());
-  centroid /= double(hiddenPoints.size());
-  const auto seenFrom = [&](const glm::dvec3& v, const glm::dvec3& x) {
-    const double d = glm::length(x - v);
-    const std::optional<RayHit> h = caster.intersect(v, (x - v) / d);
-    return h && std::abs(h->t - d) < 0.05 + 1e-3 * d;
-  };
-  glm::dvec3 viewCentre(0.0);
-  std::size_t mostSeen = 0;
-  for (double deg : {-60.0, -40.0, -20.0, 20.0, 40.0, 60.0})
-    for (double up : {0.0, 15.0, 40.0}) {
-      const double a = deg * 3.14159265358979 / 180.0;
-      const glm::dvec3 r = camera.center - centroid;
-      const glm::dvec3 v =
-          centroid + glm::dvec3(std::cos(a) * r.x - std::sin(a) * r.y, std::sin(a) * r.x + std::cos(a) * r.y, r.z + up);
-      std::size_t seenHidden = 0, seenFront = 0;
-      for (std::size_t i = 0; i < hiddenPoints.size(); i += 1 + hiddenPoints.size() / 400) {
-        seenHidden += seenFrom(v, hiddenPoints[i]);
-        seenFront += seenFrom(v, frontPoints[i]);
-      }
-      const std::size_t seen = std::min(seenHidden, seenFront);
-      if (seen > mostSeen) mostSeen = seen, viewCentre = v;
-    }
-  ASSERT_GT(mostSeen, 0u) << "no viewpoint around sees both the hidden façade and its occluder";
+  const testing::FacadeViewpoint viewpoint = testing::facadeViewpoint(f, caster);
+  ASSERT_FALSE(viewpoint.hiddenPoints.empty());
+  ASSERT_GT(viewpoint.seen, 0u) << "no viewpoint around sees both the hidden façade and its occluder";
+  const std::vector<glm::dvec3>& frontPoints = viewpoint.frontPoints;
 
   // Where the occluder stands in front of the painted façade, the photograph (layer 1) textures it.
   std::size_t frontPhotograph = 0, frontMagenta = 0;
@@ -429,40 +348,18 @@ TEST_F(DemoLayers, PaintedHiddenFacadeShowsFromAnotherViewpointNeverOnItsOcclude
   // they get nothing of the painting either (the depth test is two-sided). Rays one texel or more
   // inside the painted region: at its border the test reads the texels of the next surface too (the
   // ground the far wall stands on, on the bottom row), where the wall's foot does lie on it.
-  const auto hiddenBehindOccluder = [&](int x, int y) {
-    if (x < 0 || y < 0 || x >= ex.hits.width || y >= ex.hits.height) return false;
-    const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
-    const std::int64_t k = ex.visibility.hitOfLayer(ex.hits, p, 2);
-    return k >= 0 && ex.hits.hits[std::size_t(k)].object == hidden && ex.hits.hits[ex.hits.first[p]].object == occluder;
-  };
   std::size_t backPoints = 0, backMagenta = 0;
-  for (int y = 0; y < ex.hits.height; ++y)
-    for (int x = 0; x < ex.hits.width; ++x) {
-      bool interior = true;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) interior = interior && hiddenBehindOccluder(x + dx, y + dy);
-      const std::optional<glm::dvec3> ray = pixelRay(ex.camera, x, y);
-      if (!interior || !ray) continue;
-      const std::size_t p = std::size_t(y) * std::size_t(ex.hits.width) + std::size_t(x);
-      const std::int64_t k = ex.visibility.hitOfLayer(ex.hits, p, 2);
-      const double behind = ex.hits.hits[std::size_t(k)].depth;
-      double t = ex.hits.hits[ex.hits.first[p]].depth + 1e-3;
-      while (const std::optional<RayHit> h = caster.intersect(ex.camera.center, *ray, t)) {
-        if (h->t >= behind - 0.5) break;
-        if (ex.objects.objectOfTriangle[h->triangle] == occluder && glm::dot(h->normal, *ray) > 0.0) {
-          ++backPoints;
-          const std::optional<glm::dvec4> c = layeredTexel(layered, h->position);
-          backMagenta += c.has_value() && isMagenta(*c);
-        }
-        t = h->t + 1e-3;
-      }
-    }
+  for (const auto& [wall, facade] : testing::occluderFarWalls(f, caster)) {
+    ++backPoints;
+    const std::optional<glm::dvec4> c = layeredTexel(layered, wall);
+    backMagenta += c.has_value() && isMagenta(*c);
+  }
   EXPECT_GE(backPoints, 20u);
   EXPECT_EQ(backMagenta, 0u) << "of " << backPoints << " points on the occluder's far walls";
 
   // The view, cast against the scene's objects: what the layered photograph gives on each pixel
   // of the two buildings.
-  const Camera view = lookAtCamera("view", viewCentre, centroid, 200, 150, 150.0);
+  const Camera view = lookAtCamera("view", viewpoint.centre, viewpoint.centroid, 200, 150, 150.0);
   std::size_t paintedSeen = 0, occluderSeen = 0, occluderTextured = 0, occluderMagenta = 0, hiddenElse = 0;
   for (int y = 0; y < view.height; ++y)
     for (int x = 0; x < view.width; ++x) {

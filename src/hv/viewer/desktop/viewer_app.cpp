@@ -11,6 +11,7 @@
 #include "hv/io/camera_path_json.h"
 #include "hv/scene/native/raycast.h"
 #include "hv/scene/scene_scale.h"
+#include "hv/session/make_renderer.h"
 #include "hv/viewer/desktop/debug_panel.h"
 #include "hv/viewer/desktop/pose_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
@@ -424,11 +425,12 @@ class Viewer {
     recorded_.push_back(k);
   }
 
-  // A setting read at construction changed (settings_panel.h): a new renderer with `s`.
+  // A setting read at construction (settings_panel.h) or a photograph's camera (pose mode)
+  // changed: a new renderer with `s`, given the scene's edited layers again (makeRenderer).
   void rebuildRenderer(const render::RenderSettings& s) {
     session_->renderer.reset();
     Diagnostics diag;
-    session_->renderer = std::make_unique<render::Renderer>(session_->scene, s, diag);
+    session_->renderer = app::makeRenderer(session_->scene, s, diag);
     for (const auto& e : diag.errors) panel_.message = e;
     renderer_ = session_->renderer.get();
     settingsChanged_ = true;
