@@ -9,7 +9,7 @@
 #
 # Targets: cameras_json image_decode scene_json footprints micmac_xml las ply web_points colmap_text itowns
 # mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd gltf
-# number_list iiif_info
+# number_list iiif_info pnts tileset
 # (fuzz/CMakeLists.txt). New inputs found go to
 # build-fuzz/corpus/<target>/ (not into the source tree); crashes to build-fuzz/artifacts/<target>/
 # as crash-*/leak-*/timeout-*/oom-*. A crash worth keeping goes into fuzz/corpus/<target>/ (named
@@ -18,7 +18,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-all_targets=(cameras_json image_decode scene_json footprints micmac_xml las ply web_points colmap_text itowns mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd gltf number_list iiif_info)
+all_targets=(cameras_json image_decode scene_json footprints micmac_xml las ply web_points colmap_text itowns mesh gdal_raster ogr_vector gcp_csv cityjson colour_corrections trajectories_csv sumo_fcd gltf number_list iiif_info pnts tileset)
 target=${1:-all}
 seconds=${2:-60}
 shift $(($# > 2 ? 2 : $#))

@@ -10,6 +10,7 @@
 #include "hv/app/harmonize_command.h"
 #include "hv/app/layers_command.h"
 #include "hv/session/outputs.h"
+#include "hv/app/points_tiles_command.h"
 #include "hv/app/pose_command.h"
 #include "hv/app/render_command.h"
 #include "hv/app/settings_command.h"
@@ -42,6 +43,7 @@ void registerCommands(CLI::App& app) {
   addCatalogCommand(app, g_exit);
   addPoseCommand(app, g_exit);
   addWebExportCommand(app, g_exit);
+  addPointsTilesCommand(app, g_exit);
   addSettingsCommand(app, g_exit);
 }
 

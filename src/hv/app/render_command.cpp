@@ -5,6 +5,7 @@
 #include "hv/image/colormap.h"
 #include "hv/image/native/png_write.h"
 #include "hv/io/native/georef.h"
+#include "hv/io/native/points_tiles.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/render/frame.h"
 #include "hv/render/settings.h"
@@ -46,6 +47,10 @@ void printPoints(const PointCloud& points) {
     return;
   }
   std::cout << " (" << points.fields().describe() << "; " << points.chunks.size() << " chunks)\n";
+  if (const std::optional<PointTilesetInfo> t = lastPointTilesetInfo(points.sourcePath))
+    std::cout << "  3d tiles " << t->tilesRead << " tiles read of " << t->tilesInTileset << " in the tileset, "
+              << t->tilesKept << " kept, " << t->tilesFailed << " failed, " << t->bytes << " bytes fetched"
+              << (t->budgetLimited ? " (point budget reached)" : "") << "\n";
   const Aabb b = points.bounds();
   std::cout << "  bounds   " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
   std::string crs = points.crs.empty() ? "(none declared)" : points.crs;

@@ -16,6 +16,7 @@
 #include "hv/io/native/mesh_reader.h"
 #include "hv/io/native/micmac_cameras.h"
 #include "hv/io/native/ply_points.h"
+#include "hv/io/native/points_tiles.h"
 #include "hv/io/native/raster.h"
 #include "hv/io/native/remote.h"
 #include "hv/io/native/sumo_fcd.h"
@@ -265,6 +266,66 @@ PointCloud readPointFile(const std::string& p) {
   throw InputError(inputMessage(p, "points.path", "expected a .las or .ply file"));
 }
 
+// scene.json "points" naming a 3D Tiles tileset (hv/io/native/points_tiles.h): `tileset`, or a
+// `path` ending in tileset.json; `tolerance` (pixels) and `budget` (points) only with a tileset.
+std::optional<PointTilesetRequest> pointTilesetRequest(const json& doc, const std::string& dir,
+                                                       const std::string& sceneCrs, const std::string& path) {
+  const json& e = doc.at("points");
+  if (!e.is_object()) return std::nullopt;  // refused as a point file's entry, below
+  const bool tileset = e.contains("tileset");
+  if (tileset && e.contains("path"))
+    throw InputError(path + ": points: expected either a path (a point file) or a tileset (3D Tiles), not both");
+  if (tileset && !e["tileset"].is_string())
+    throw InputError(path + ": points.tileset: expected the URL or path of a 3D Tiles tileset.json (string)");
+  const std::string url = tileset                                            ? e["tileset"].get<std::string>()
+                          : e.contains("path") && e["path"].is_string() ? e["path"].get<std::string>()
+                                                                             : std::string();
+  if (!tileset && !isTilesetPath(url)) {
+    for (const char* key : {"tolerance", "budget"})
+      if (e.contains(key))
+        throw InputError(path + ": points." + key + ": only with a 3D Tiles tileset (points.tileset)");
+    return std::nullopt;
+  }
+  PointTilesetRequest r;
+  r.url = resolveSourcePath(url, dir);
+  r.georef = sourceGeoref(doc, "points", sceneCrs, path);
+  if (e.contains("tolerance")) {
+    if (!e["tolerance"].is_number() || !std::isfinite(e["tolerance"].get<double>()) || e["tolerance"].get<double>() < 0)
+      throw InputError(path + ": points.tolerance: expected a screen-space error in pixels (a number >= 0), got " +
+                       e["tolerance"].dump());
+    r.tolerancePx = e["tolerance"].get<double>();
+  }
+  if (e.contains("budget")) {
+    if (!e["budget"].is_number_unsigned() || e["budget"].get<std::uint64_t>() == 0)
+      throw InputError(path + ": points.budget: expected the most points to read (an integer > 0), got " +
+                       e["budget"].dump());
+    r.budget = std::size_t(e["budget"].get<std::uint64_t>());
+  }
+  return r;
+}
+
+// Points from a 3D Tiles tileset, once the cameras are known (their screen-space error chooses
+// the tiles), then as a point file's: georeferenced, normals, chunks.
+void loadPointTilesetIntoScene(Scene& scene, const PointTilesetRequest& request, const json& entry,
+                               const std::string& path, Diagnostics& diag) {
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<Camera> cameras;
+    for (const Photo& p : scene.photos) cameras.push_back(p.camera);
+    scene.points = loadPointTileset(request, cameras, diag);
+    if (!scene.crs.empty()) georeferencePoints(scene.points, request.georef, request.url, diag);
+    recordSource(scene, "points", scene.points.crs);
+    estimatePointNormals(scene.points, entry, path);
+    organizeChunks(scene.points);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    log::debug("points: " + request.url + ": " + std::to_string(scene.points.size()) + " points, " +
+               std::to_string(scene.points.chunks.size()) + " chunks, " + std::to_string(s) + " s");
+  } catch (const InputError& e) {
+    scene.points = PointCloud{};
+    diag.error(std::string(e.what()) + " (points left out)");
+  }
+}
+
 // The keys of scene.json (docs/formats.md). A key this version does not read is most often a
 // misspelt one ("terain"): the scene would load without what it names, so it is refused instead,
 // with the nearest known key. "layers" is read by hv/layers/native/layer_import.h (readLayerFiles).
@@ -275,7 +336,7 @@ void refuseUnknownKeys(const json& doc, const std::string& path) {
       {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
       {"mesh", {"path", "crs"}},
-      {"points", {"path", "crs", "normals"}},
+      {"points", {"path", "tileset", "crs", "normals", "tolerance", "budget"}},
       {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table", "layer"}},
       {"traffic", {"fcd", "csv", "crs", "offset", "models"}}};
   std::vector<std::string> bad;
@@ -775,7 +836,18 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       diag.error(std::string(e.what()) + " (mesh left out)");
     }
   }
+  // A 3D Tiles tileset is read once the cameras are known (below); a point file now.
+  std::optional<PointTilesetRequest> pointTileset;
+  bool pointsRefused = false;
   if (geometry && doc.contains("points")) {
+    try {
+      pointTileset = pointTilesetRequest(doc, dir, scene.crs, path);
+    } catch (const InputError& e) {
+      pointsRefused = true;
+      diag.error(std::string(e.what()) + " (points left out)");
+    }
+  }
+  if (geometry && doc.contains("points") && !pointTileset && !pointsRefused) {
     try {
       const std::string p = sourcePath(doc, "points", dir, path);
       const auto t0 = std::chrono::steady_clock::now();
@@ -887,6 +959,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       diag.error(std::string(e.what()) + " (cameras left out)");
     }
   }
+
+  if (pointTileset) loadPointTilesetIntoScene(scene, *pointTileset, doc["points"], path, diag);
 
   // The photographs' colour corrections (`histoview harmonize`); a broken file or entry leaves the
   // photographs it concerns with their own colours.
