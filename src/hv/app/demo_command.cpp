@@ -154,7 +154,9 @@ int runDemo(const DemoCommandOptions& o) {
     frames.frames = o.trafficFrames;
     const std::string dir = (fs::path(cityDir) / "traffic").string();
     std::cout << "\n";
-    if (writeTrafficFrames(trafficRenderer, *scene.traffic, MeshTerrainHeight(scene.terrain), frames, dir) > 0)
+    std::vector<Camera> photos;
+    for (const Photo& p : scene.photos) photos.push_back(p.camera);
+    if (writeTrafficFrames(trafficRenderer, *scene.traffic, MeshTerrainHeight(scene.terrain), frames, dir, photos) > 0)
       framesLine = "\ntraffic: " + (fs::path(dir) / "frames").string() + "/";
   } else if (o.trafficFrames > 0) {
     std::cout << "\nno traffic frames: the city has no traffic (SUMO did not run)\n";

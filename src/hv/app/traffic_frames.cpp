@@ -67,7 +67,10 @@ struct Track {
 
 }  // namespace
 
-TrafficChase trafficChase(const Trajectories& traffic, const TerrainHeight& terrain, const TrafficFramesOptions& o) {
+TrafficChase trafficChase(const Trajectories& traffic, const TerrainHeight& terrain, const TrafficFramesOptions& o,
+                          const std::vector<Camera>& photos) {
+  std::vector<glm::dvec3> photoAxes;
+  for (const Camera& c : photos) photoAxes.push_back(glm::normalize(c.rayDirection(c.principal)));
   TrafficChase best;
   if (o.frames < 1 || !(o.fps > 0.0)) return best;
   const double t0 = o.start, t1 = o.start + (o.frames - 1) / o.fps;
@@ -78,7 +81,7 @@ TrafficChase trafficChase(const Trajectories& traffic, const TerrainHeight& terr
     const Track track(v);
     if (track.at(t1) - track.at(t0) < 2.0 * (t1 - t0)) continue;  // under 2 m/s: waiting
     std::vector<PathKey> keys;
-    int score = 0;
+    int score = 0, others = 0;
     for (int i = 0; i < o.frames; ++i) {
       const double time = t0 + i / o.fps;
       const double d = track.at(time);
@@ -96,21 +99,27 @@ TrafficChase trafficChase(const Trajectories& traffic, const TerrainHeight& terr
         const auto p = sampleTrajectory(other, time);
         if (!p) continue;
         const double along = glm::dot(p->xy - eye, forward);
-        score += along > 0.0 && glm::length(p->xy - eye) < 60.0;
+        others += along > 0.0 && glm::length(p->xy - eye) < 60.0;
       }
+      int near = 0;
+      const glm::dvec3 axis = glm::normalize(c - e);
+      for (size_t k = 0; k < photos.size(); ++k)
+        near += glm::length(glm::dvec2(photos[k].center) - eye) < 30.0 && glm::dot(photoAxes[k], axis) > 0.5;
+      score += 2 * std::min(near, 4);
     }
+    score += others;
     if (keys.empty() || score <= bestScore) continue;
     bestScore = score;
     best.vehicle = v.id;
     best.keys = std::move(keys);
-    best.othersInView = score;
+    best.othersInView = others;
   }
   return best;
 }
 
 int writeTrafficFrames(render::Renderer& renderer, const Trajectories& traffic, const TerrainHeight& terrain,
-                       const TrafficFramesOptions& o, const std::string& dir) {
-  const TrafficChase chase = trafficChase(traffic, terrain, o);
+                       const TrafficFramesOptions& o, const std::string& dir, const std::vector<Camera>& photos) {
+  const TrafficChase chase = trafficChase(traffic, terrain, o, photos);
   if (chase.keys.empty()) {
     std::cout << "no traffic frames: no vehicle of the simulation drives through the " << o.frames << " frames from "
               << o.start << " s\n";
