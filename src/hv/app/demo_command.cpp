@@ -4,6 +4,7 @@
 #include "hv/app/demo_command.h"
 
 #include "hv/app/harmonize_command.h"
+#include "hv/app/traffic_frames.h"
 
 #include "hv/session/session.h"
 
@@ -37,6 +38,7 @@ struct DemoCommandOptions {
   int k = 8;
   bool generateOnly = false;
   bool harmonize = false;
+  int trafficFrames = TrafficFramesOptions{}.frames;  // 0: none
 };
 
 // `histoview harmonize` on the generated city: corrections.json beside scene.json, which then names
@@ -111,7 +113,8 @@ int runDemo(const DemoCommandOptions& o) {
     render::Renderer plain(scene, uncorrected, diag);
     eval::EvalOptions plainOpt = opt;
     plainOpt.methods = {eval::Method::Blend};
-    std::cout << "blend without the colour corrections\n" << eval::formatTable(eval::evaluate(plain, views, plainOpt, diag));
+    std::cout << "blend without the colour corrections\n"
+              << eval::formatTable(eval::evaluate(plain, views, plainOpt, diag));
   }
   const std::string jsonPath = (fs::path(o.out) / "eval.json").string();
   std::ofstream(jsonPath) << eval::toJson(report).dump(2) << "\n";
@@ -141,8 +144,26 @@ int runDemo(const DemoCommandOptions& o) {
   const std::string pointJson = (fs::path(o.out) / "eval-points.json").string();
   std::ofstream(pointJson) << eval::toJson(pointReport).dump(2) << "\n";
 
+  // The traffic driving through the streets, drawn over the old photographs (docs/traffic.md).
+  std::string framesLine;
+  if (o.trafficFrames > 0 && scene.traffic) {
+    render::RenderSettings trafficSettings;
+    trafficSettings.blend.k = o.k;
+    render::Renderer trafficRenderer(scene, trafficSettings, diag);
+    TrafficFramesOptions frames;
+    frames.frames = o.trafficFrames;
+    const std::string dir = (fs::path(cityDir) / "traffic").string();
+    std::cout << "\n";
+    std::vector<Camera> photos;
+    for (const Photo& p : scene.photos) photos.push_back(p.camera);
+    if (writeTrafficFrames(trafficRenderer, *scene.traffic, MeshTerrainHeight(scene.terrain), frames, dir, photos) > 0)
+      framesLine = "\ntraffic: " + (fs::path(dir) / "frames").string() + "/";
+  } else if (o.trafficFrames > 0) {
+    std::cout << "\nno traffic frames: the city has no traffic (SUMO did not run)\n";
+  }
+
   std::cout << "\nscene:   " << city.scenePath << "\nrenders: " << renderDir << "/, " << pointDir
-            << "/\nreports: " << jsonPath << ", " << pointJson << "\ndone in " << std::setprecision(1)
+            << "/\nreports: " << jsonPath << ", " << pointJson << framesLine << "\ndone in " << std::setprecision(1)
             << std::chrono::duration<double>(clock::now() - t0).count() << " s\n";
   return diag.ok() ? 0 : 1;
 }
@@ -174,6 +195,13 @@ void addDemoCommand(CLI::App& app, int& exitCode) {
                 "also estimate the photographs' colour corrections (corrections.json, named by scene.json) and "
                 "evaluate the blend with and without them (not yet the default: on the demo city the estimate "
                 "is not yet reliable, docs/design.md)");
+  cmd->add_option("--traffic-frames", o->trafficFrames,
+                  "frames of the traffic driving through the streets, rendered last into city/traffic/frames/ "
+                  "(0: none)")
+      ->check(CLI::Range(0, 10000))
+      ->capture_default_str();
+  cmd->add_flag_callback(
+      "--no-traffic-frames", [o] { o->trafficFrames = 0; }, "no traffic frames (--traffic-frames 0)");
   setAction(*cmd, exitCode, [o] { return runDemo(*o); });
 }
 
