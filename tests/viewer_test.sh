@@ -14,6 +14,7 @@
 # and then and now at a photograph's camera: at opacity 1 the window is the photograph itself, with
 # a swipe line at the middle its left half and, right of the line, the render without it.
 # Then the traffic played (--traffic-play, docs/traffic.md): its clock moves from --time.
+# Then the map (--map): a click on a photograph's dot (xdotool) goes to that photograph.
 # Exits 77 (skipped) when xvfb-run or the viewer is not available, saying which.
 set -uo pipefail
 
@@ -291,6 +292,49 @@ if command -v xdotool >/dev/null; then
   echo "three 12 ms taps of F2: three numbered screenshots ($frame_ms)"
 else
   echo "(key taps not tested: xdotool is not installed; tools/install-deps.sh installs it)"
+fi
+
+# The map (M; --map opens it): a click on a photograph's dot goes to that photograph. The viewer
+# prints where it draws each dot (window pixels); xdotool clicks the dot farthest from the others,
+# and the viewer must name that photograph as the one it goes to.
+if command -v xdotool >/dev/null; then
+  mapdir=$DIR/map
+  mkdir -p "$mapdir"
+  xvfb-run -a -s "-screen 0 1280x1024x24" bash -c '
+    cd "$1" || exit 1
+    "$2" view "$3/scene.json" --size 1024x768 --redraw --frames 100000 --hide-panel --map --print-frame-times \
+      >view.out 2>&1 &
+    pid=$!
+    for _ in $(seq 300); do grep -q "viewer: map: photograph" view.out && break; sleep 0.2; done
+    sleep 1
+    win=$(xdotool search --name "^histoview" | head -1)
+    [[ -n $win ]] && xdotool windowfocus "$win" 2>/dev/null
+    read -r index x y < <(python3 -c "
+import re, sys
+dots = {}
+for m in re.finditer(r\"viewer: map: photograph (\\d+) at ([-\\d.e]+) ([-\\d.e]+)\", open(\"view.out\").read()):
+    dots[int(m.group(1))] = (float(m.group(2)), float(m.group(3)))
+gap = lambda i: min([((dots[i][0] - p[0]) ** 2 + (dots[i][1] - p[1]) ** 2) ** 0.5 for j, p in dots.items() if j != i] or [1e9])
+i = max(dots, key=gap)
+print(i, round(dots[i][0]), round(dots[i][1]))")
+    echo "$index" >clicked
+    if [[ -n $win && -n $x ]]; then
+      # From outside the window into it (Dear ImGui follows the pointer once it has entered).
+      xdotool mousemove 1270 1010; sleep 0.5
+      xdotool mousemove --window "$win" "$x" "$y"; sleep 1
+      xdotool click 1
+      for _ in $(seq 150); do grep -q "viewer: map: to photograph" view.out && break; sleep 0.2; done
+    fi
+    kill "$pid" 2>/dev/null
+    wait "$pid" 2>/dev/null
+    exit 0' _ "$mapdir" "$HV" "$city"
+  clicked=$(cat "$mapdir/clicked" 2>/dev/null)
+  if [[ -z $clicked ]] || ! grep -q "viewer: map: to photograph $clicked " "$mapdir/view.out"; then
+    echo "FAIL: a click on photograph ${clicked:-?}'s dot on the map did not go to it; output:"
+    grep -v "^frame" "$mapdir/view.out" | tail -20
+    exit 1
+  fi
+  grep "viewer: map: to photograph" "$mapdir/view.out" | head -1
 fi
 
 # The traffic played (hv/viewer/traffic_clock.h): from --time 5 at 10 simulated seconds a second,

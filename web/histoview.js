@@ -149,6 +149,7 @@
     const timelineUi = buildTimeline(viewer);
     const thenNowUi = buildThenNow(viewer, FS);
     const trafficUi = buildTraffic(viewer);
+    const mapUi = window.hvBuildMap ? window.hvBuildMap(viewer, () => canvas.focus()) : { update() {}, toggle() {} };
 
     // Photographs, nearest the start view first, a few requests in flight; each joins the
     // renderer's selection as soon as its bytes (and its mask's) are in the file system.
@@ -187,6 +188,7 @@
       if (e.code === 'Space' && !e.repeat) timelineUi.toggle();
       if (e.code === 'KeyY' && !e.repeat) trafficUi.toggle();
       if (e.code === 'KeyT' && !e.repeat) thenNowUi.toggle();
+      if (e.code === 'KeyM' && !e.repeat) mapUi.toggle();
       if (e.code.startsWith('Arrow') || e.code === 'Space' || e.code.startsWith('Page')) e.preventDefault();
     });
     canvas.addEventListener('keyup', (e) => keys.delete(e.code));
@@ -232,6 +234,7 @@
       timelineUi.update();
       thenNowUi.update(s);
       trafficUi.update(s);
+      mapUi.update();
       shareLink(now);
       requestAnimationFrame(tick);
     }
@@ -282,6 +285,8 @@
     hv.thenNow = (on) => thenNowUi.set(on);
     hv.move = (right, forward, up, lookX, lookY, dt) => viewer.move(right, forward, up, lookX, lookY, false, dt);
     hv.focus = (i) => viewer.focusPhoto(i);
+    hv.map = () => ({ ...mapUi.data, view: JSON.parse(viewer.mapView($('map').width, $('map').height)) });
+    hv.mapClick = (x, y) => mapUi.click(x, y);
     // Median time of n frames rendered back to back at the current view (waiting for the GPU).
     hv.measure = (n) => {
       const t = [];
@@ -404,9 +409,13 @@
       a.value = Math.round(w.a * SLIDER_STEPS);
       b.value = Math.round(w.b * SLIDER_STEPS);
       $('window-text').textContent = (w.open ? 'all photographs: ' : '') + `${w.from} .. ${w.to}: ${w.count} of ${t.dated} ` +
-        'dated photographs' + (t.undated ? ` (${t.undated} undated, always shown)` : '');
+        'dated photographs' +
+        (t.undated ? ` (${t.undated} undated, ${w.datedOnly ? 'left out' : 'always shown'})` : '');
       play.textContent = w.playing ? 'pause (Space)' : 'play (Space)';
-      document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('outside', !w.inWindow[+li.dataset.index]));
+      document.querySelectorAll('#photos li, #undated-photos li').forEach((li) => li.classList.toggle('outside', !w.inWindow[+li.dataset.index]));
+      $('timeline-dated-only').checked = w.datedOnly;
+      if (t.undated) $('undated-text').textContent = `${t.undated} undated photograph${t.undated === 1 ? '' : 's'}` +
+        (w.datedOnly ? ' (left out: dated only)' : ' (shown in any window)');
       for (const name of ['from', 'to']) { const input = $(name); if (input) input.value = w.open ? '' : w[name]; }
       draw(w);
     };
@@ -426,6 +435,28 @@
     };
     play.addEventListener('click', ui.toggle);
     $('timeline-all').addEventListener('click', () => { viewer.clearTimeWindow(); ui.update(true); });
+    // The undated photographs, listed apart (they pass any window unless dated only); a click goes
+    // to one. Dated only is the render setting `dated-only` (also in the settings' Time window group).
+    if (t.undated) {
+      $('undated-box').hidden = false;
+      const photos = JSON.parse(viewer.photos());
+      t.undatedPhotos.forEach((i) => {
+        const p = photos[i];
+        const li = document.createElement('li');
+        li.dataset.index = i;
+        li.textContent = p.id + (p.date ? ' — ' + p.date + ' (not a date)' : '');
+        li.title = 'go to this photograph, then step back into its surroundings';
+        li.addEventListener('click', () => { viewer.focusPhoto(i); canvas.focus(); });
+        $('undated-photos').appendChild(li);
+      });
+    }
+    $('timeline-dated-only').addEventListener('change', (e) => {
+      const err = viewer.setSetting('dated-only', e.target.checked ? 'true' : 'false');
+      if (err) showError(err);
+      const control = $('dated-only');
+      if (control) control.checked = e.target.checked;
+      ui.update(true);
+    });
     ui.update(true);
     return ui;
   }

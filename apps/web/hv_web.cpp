@@ -14,6 +14,7 @@
 #include "hv/render/settings_schema.h"
 #include "hv/traffic/trajectories.h"
 #include "hv/util/log.h"
+#include "hv/viewer/map_overview.h"
 #include "hv/viewer/navigation.h"
 #include "hv/viewer/then_now.h"
 #include "hv/viewer/timeline.h"
@@ -318,7 +319,7 @@ class WebViewer {
   }
   // The timeline (hv/viewer/timeline.h, as the desktop viewer's): {"first", "last" (the axis's days),
   // "firstDate", "lastDate", "firstYear", "yearsPerBin", "counts" (photographs per bar), "dated",
-  // "undated"}.
+  // "undated", "undatedPhotos" (their indices: no date, or one that is not an ISO 8601 date)}.
   std::string timeline() const {
     json t = {{"first", axis_.first},
               {"last", axis_.last},
@@ -328,7 +329,8 @@ class WebViewer {
               {"yearsPerBin", histogram_.yearsPerBin},
               {"counts", histogram_.counts},
               {"dated", dates_.dated.size()},
-              {"undated", dates_.undated.size()}};
+              {"undated", dates_.undated.size()},
+              {"undatedPhotos", dates_.undated}};
     return t.dump();
   }
   // The time window at two slider positions (fractions of the axis, 0 <= a <= b <= 1), as the
@@ -346,11 +348,12 @@ class WebViewer {
     setWindow(std::nullopt);
   }
   // {"open", "a", "b" (slider positions), "from", "to" (days as dates), "count" (dated photographs
-  // in it), "inWindow": [per photograph: dated and overlapping it, or undated], "playing"}.
+  // in it), "inWindow": [per photograph: dated and overlapping it, or undated and not dated-only],
+  // "datedOnly", "playing"}.
   std::string timeWindow() const {
     const DateInterval w = windowOnAxis(settings_.blend.window, axis_);
     json inWindow = json::array();
-    for (const auto& d : dates_.when) inWindow.push_back(!d || overlaps(*d, w));
+    for (const auto& d : dates_.when) inWindow.push_back(d ? overlaps(*d, w) : !settings_.blend.datedOnly);
     return json{{"open", !settings_.blend.window.has_value()},
                 {"a", axis_.positionOf(w.first)},
                 {"b", axis_.positionOf(w.last)},
@@ -358,6 +361,7 @@ class WebViewer {
                 {"to", formatDay(w.last)},
                 {"count", countInWindow(dates_, w)},
                 {"inWindow", inWindow},
+                {"datedOnly", settings_.blend.datedOnly},
                 {"playing", player_.playing()}}
         .dump();
   }
@@ -454,6 +458,83 @@ class WebViewer {
   }
   int thenNow() const { return thenNow_; }
 
+  // The map (hv/viewer/map_overview.h, as the desktop viewer's; web/map.js draws it) in a canvas of
+  // width x height pixels: {"hillshade": {"lo", "hi" (its box's north-west and south-east corners
+  // in canvas pixels), "width", "height", "grey", "alpha" (row by row, north first)} or null,
+  // "outlines" (x0, y0, x1, y1, ... segments), "footprints" (x, y triangles), "dots": [{"photo",
+  // "id", "x", "y", "dx", "dy" (the viewing direction on the canvas, unit), "dated"}],
+  // "undated": [photograph indices]}.
+  std::string mapData(int width, int height) {
+    if (!scene_) return "{}";
+    const MapOverview& m = mapOverview_();
+    const MapFrame f = fitMap(m.extent, width, height);
+    auto px = [&](json& a, const glm::dvec2& p) {
+      const glm::dvec2 q = f.toPixel(p);
+      a.push_back(std::round(q.x * 100.0) / 100.0);
+      a.push_back(std::round(q.y * 100.0) / 100.0);
+    };
+    json out = {{"hillshade", nullptr}};
+    if (!m.shade.data.empty()) {
+      json grey = json::array(), alpha = json::array();
+      for (int y = 0; y < m.shade.height; ++y)
+        for (int x = 0; x < m.shade.width; ++x)
+          grey.push_back(m.shade.at(x, y, 0)), alpha.push_back(m.shade.at(x, y, 1));
+      json lo = json::array(), hi = json::array();
+      px(lo, {m.terrain.box.lo.x, m.terrain.box.hi.y});
+      px(hi, {m.terrain.box.hi.x, m.terrain.box.lo.y});
+      out["hillshade"] = {{"lo", lo}, {"hi", hi}, {"width", m.shade.width}, {"height", m.shade.height},
+                          {"grey", grey}, {"alpha", alpha}};
+    }
+    json outlines = json::array(), footprints = json::array(), dots = json::array();
+    for (const glm::dvec2& p : m.outlineSegments) px(outlines, p);
+    for (const glm::dvec2& p : m.footprintTriangles) px(footprints, p);
+    for (const MapDot& d : m.dots) {
+      const glm::dvec2 q = f.toPixel(d.at), dir = pixelDirection(d.direction);
+      dots.push_back({{"photo", d.photo}, {"id", scene_->photos[size_t(d.photo)].camera.id}, {"x", q.x}, {"y", q.y},
+                      {"dx", dir.x}, {"dy", dir.y}, {"dated", d.dated}});
+    }
+    out["outlines"] = outlines;
+    out["footprints"] = footprints;
+    out["dots"] = dots;
+    out["undated"] = dates_.undated;
+    return out.dump();
+  }
+  // The view on that map: {"x", "y" (canvas pixels), "dx", "dy" (its heading, unit; 0 looking
+  // straight down)}.
+  std::string mapView(int width, int height) {
+    if (!nav_) return "{}";
+    const MapOverview& m = mapOverview_();
+    const MapFrame f = fitMap(m.extent, width, height);
+    const MapView v = viewer::mapView(m, nav_->camera());
+    const glm::dvec2 q = f.toPixel(v.at), dir = pixelDirection(v.direction);
+    return json{{"x", q.x}, {"y", q.y}, {"dx", dir.x}, {"dy", dir.y}}.dump();
+  }
+  // A click at (x, y) on that map: a photograph's dot (within 6 pixels) starts focus + context on
+  // it, elsewhere the view flies to the ground there, its heading kept, at its height above the
+  // ground (at least eye height). Returns {"photo"} or {"ground": [x, y, z]}.
+  std::string mapClick(double x, double y, int width, int height) {
+    if (!nav_) return "{}";
+    const MapOverview& m = mapOverview_();
+    const MapClick click = clickMap(m, fitMap(m.extent, width, height), {x, y}, 6.0);
+    if (click.photo >= 0) {
+      focusPhoto(click.photo);
+      return json{{"photo", click.photo}}.dump();
+    }
+    leaveThenNow();
+    const Camera cam = nav_->camera();
+    const double above = glm::dot(cam.center - m.groundAt(m.toPlane(cam.center)), m.axes.up);
+    const double over = std::max(nav_->settings().eyeHeight, above);
+    FocusContextSettings s = focus_;
+    s.holdSeconds = s.backSeconds = s.stepBack = 0.0;
+    s.zoomOut = 1.0;
+    s.levelHorizon = false;
+    focusPath_ =
+        std::make_unique<FocusContextPath>(cam, viewOverGround(cam, click.ground, m.axes.up, over), s, nullptr);
+    focusStart_ = std::chrono::steady_clock::now();
+    dirty_ = true;
+    return json{{"ground", {click.ground.x, click.ground.y, click.ground.z}}}.dump();
+  }
+
   // The current camera (cameras.json schema), e.g. to share a view.
   std::string camera() const {
     if (!nav_) return "{}";
@@ -463,6 +544,16 @@ class WebViewer {
   }
 
  private:
+  // The map, made on first use (the terrain's hillshade is rasterised then).
+  const MapOverview& mapOverview_() {
+    if (!map_) {
+      std::vector<bool> dated;
+      for (const auto& d : dates_.when) dated.push_back(d.has_value());
+      map_ = std::make_unique<MapOverview>(mapOverview(*scene_, dated, 192));
+    }
+    return *map_;
+  }
+
   // The time window into the settings and the renderer's (live: BlendSettings::window).
   void setWindow(const std::optional<DateInterval>& window) {
     settings_.blend.window = window;
@@ -551,6 +642,7 @@ class WebViewer {
   TimelinePlayer player_;
   TrafficClock clock_;
   TrafficPlaySettings trafficPlay_;
+  std::unique_ptr<MapOverview> map_;
   std::chrono::steady_clock::time_point lastTick_ = std::chrono::steady_clock::now();
 };
 
@@ -604,7 +696,10 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("shareQuery", &WebViewer::shareQuery)
       .function("enterThenNow", &WebViewer::enterThenNow)
       .function("leaveThenNow", &WebViewer::leaveThenNow)
-      .function("thenNow", &WebViewer::thenNow);
+      .function("thenNow", &WebViewer::thenNow)
+      .function("mapData", &WebViewer::mapData)
+      .function("mapView", &WebViewer::mapView)
+      .function("mapClick", &WebViewer::mapClick);
 }
 
 }  // namespace hv::web

@@ -10,7 +10,10 @@
 // the time window hides the photographs outside it (list and picture), plays; the screenshot button
 // downloads a PNG of the canvas; the traffic has vehicles on the road, plays and moves; the address
 // bar's shared link, opened in a second page, restores the camera, the window and the traffic's time;
-// then and now lays the chosen photograph over the canvas until the camera moves.
+// then and now lays the chosen photograph over the canvas until the camera moves. The map: the
+// photographs' dots where their cameras are (north up, one scale), drawn on the map's canvas; a
+// click on a dot goes to that photograph, one elsewhere to the ground there. The photograph
+// tests/web_test.sh left undated is listed apart under the timeline, and dated only leaves it out.
 // Writes web-points.png and web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the
 // whole page. Prints "N passed, M failed"; exit code 1 on failure.
 import { chromium } from 'playwright-core';
@@ -300,6 +303,99 @@ try {
   await page.waitForFunction(() => hv.status.thenNow === -1, null, { timeout: 60000, polling: 250 });
   await page.waitForTimeout(300);
   check(await page.evaluate(() => document.getElementById('then-now-image').hidden), 'moving ends then and now');
+  // The map (docs/web.md, "The page"): the export's cameras, read here, against the dots the page
+  // draws. North up at one scale: x_i - x_j = s (X_i - X_j), y_i - y_j = -s (Y_i - Y_j) (the demo
+  // city: a CRS, up = z).
+  const map = await page.evaluate(async () => {
+    const cams = (await (await fetch('cameras.json')).json()).cameras;
+    const m = hv.map();
+    const canvas = document.getElementById('map'), g = canvas.getContext('2d');
+    const colours = m.dots.map((d) => Array.from(g.getImageData(Math.floor(d.x), Math.floor(d.y), 1, 1).data));
+    return { cams, dots: m.dots, view: m.view, undated: m.undated, colours, canvasW: canvas.width, canvasH: canvas.height,
+             outlines: m.outlines.length, shade: !!m.hillshade };
+  });
+  const byId = new Map(map.cams.map((c) => [c.id, c]));
+  let far = [0, 1], farD = -1;
+  map.dots.forEach((a, i) => map.dots.forEach((b, j) => {
+    const A = byId.get(a.id).center, B = byId.get(b.id).center, d = Math.hypot(A[0] - B[0], A[1] - B[1]);
+    if (d > farD) { farD = d; far = [i, j]; }
+  }));
+  const [fi, fj] = far.map((k) => map.dots[k]);
+  const scale = Math.hypot(fi.x - fj.x, fi.y - fj.y) / farD;
+  let worst = 0;
+  for (const d of map.dots) {
+    const C = byId.get(d.id).center, C0 = byId.get(fi.id).center;
+    const ex = fi.x + scale * (C[0] - C0[0]), ey = fi.y - scale * (C[1] - C0[1]);
+    worst = Math.max(worst, Math.hypot(d.x - ex, d.y - ey));
+  }
+  console.log(`map: ${map.dots.length} dots, ${scale.toFixed(3)} px/m, worst ${worst.toFixed(3)} px; ` +
+              `${map.outlines / 4} outline segments, hillshade ${map.shade}`);
+  check(map.dots.length === map.cams.length && worst < 0.05 && map.dots.every((d) => d.x >= 0 && d.y >= 0 &&
+        d.x <= map.canvasW && d.y <= map.canvasH), 'the map puts every photograph where its camera is, north up');
+  check(map.outlines > 0 && map.shade, 'the map has the buildings\' footprints and the terrain\'s hillshade');
+  // Each dot drawn in its colour (dated orange, undated blue) at its centre: those at least 8 pixels
+  // from every other dot and 14 from the view's triangle (which are drawn over them otherwise).
+  const isColour = (c, rgb) => Math.abs(c[0] - rgb[0]) + Math.abs(c[1] - rgb[1]) + Math.abs(c[2] - rgb[2]) < 60;
+  const apart = map.dots.map((d) => map.dots.every((e) => e === d || Math.hypot(d.x - e.x, d.y - e.y) >= 8) &&
+                                    Math.hypot(d.x - map.view.x, d.y - map.view.y) >= 14);
+  const seen = map.dots.filter((d, i) => apart[i] && isColour(map.colours[i], d.dated ? [240, 160, 40] : [120, 170, 230]));
+  const nApart = apart.filter(Boolean).length;
+  check(nApart >= 3 && seen.length === nApart && map.dots.some((d) => !d.dated),
+        `the map draws the dots in their colours (${seen.length} of the ${nApart} apart from the others)`);
+  // A click on a dot (as the mouse does it): the view goes to that photograph, then steps back
+  // along its axis (focus + context): the camera ends behind the photograph's centre, looking its way.
+  const target = map.dots.find((d) => d.photo !== 0 && d.dated) || map.dots[1];
+  await page.locator('#map').scrollIntoViewIfNeeded();
+  const mapBox = await page.locator('#map').boundingBox();
+  await page.mouse.click(mapBox.x + target.x * mapBox.width / map.canvasW, mapBox.y + target.y * mapBox.height / map.canvasH);
+  await page.waitForTimeout(500);  // hv.status is refreshed each frame: not the one before the click
+  await page.waitForFunction((i) => hv.viewer.focused() === i && !hv.status.focusing, target.photo,
+                             { timeout: 60000, polling: 250 });
+  const pose = (await page.evaluate(() => hv.pose())).split(',').map(Number);
+  const cam = byId.get(target.id), fwd = cam.rotation.slice(6, 9);
+  const [, , , qw, qx, qy, qz] = pose;
+  const viewFwd = [2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)];
+  const back = [0, 1, 2].map((k) => pose[k] - cam.center[k]), backLen = Math.hypot(...back);
+  const along = back.reduce((a, v, k) => a - v * fwd[k], 0) / Math.max(backLen, 1e-9);
+  const facing = viewFwd.reduce((a, v, k) => a + v * fwd[k], 0);
+  console.log(`map click on ${target.id}: ${backLen.toFixed(2)} m behind it (cos ${along.toFixed(4)}), facing cos ${facing.toFixed(4)}`);
+  check(backLen > 0.1 && along > 0.999 && facing > 0.98, 'a click on a dot goes to that photograph (focus + context)');
+  // A click on the ground, away from the dots: the view flies there, its heading kept.
+  let spot = null;
+  for (let y = 10; y < map.canvasH && !spot; y += 10)
+    for (let x = 10; x < map.canvasW && !spot; x += 10)
+      if (map.dots.every((d) => Math.hypot(d.x - x, d.y - y) > 20)) spot = [x, y];
+  const gBefore = (await page.evaluate(() => hv.pose())).split(',').map(Number);
+  const ground = await page.evaluate(([x, y]) => hv.mapClick(x, y), spot);
+  await page.waitForTimeout(500);
+  await page.waitForFunction(() => !hv.status.focusing, null, { timeout: 60000, polling: 250 });
+  await page.waitForTimeout(300);
+  const gAfter = (await page.evaluate(() => hv.pose())).split(',').map(Number);
+  const quatSame = Math.abs([3, 4, 5, 6].reduce((a, k) => a + gBefore[k] * gAfter[k], 0)) > 0.9999;
+  console.log(`map click on the ground at ${JSON.stringify(ground)}: view at ${gAfter.slice(0, 3).join(', ')}`);
+  check(ground.ground && Math.hypot(gAfter[0] - ground.ground[0], gAfter[1] - ground.ground[1]) < 0.01 &&
+        gAfter[2] > ground.ground[2] && quatSame, 'a click on the ground flies there, the heading kept');
+  // The undated photograph (tests/web_test.sh removed its date from the export) is listed apart;
+  // dated only leaves it out of the window.
+  const undated = await page.evaluate(async () => {
+    const items = Array.from(document.querySelectorAll('#undated-photos li')).map((li) => +li.dataset.index);
+    const text = document.getElementById('undated-text').textContent;
+    const inWindowBefore = hv.timeWindow().inWindow;
+    const box = document.getElementById('timeline-dated-only');
+    box.click();
+    const w = hv.timeWindow();
+    const textAfter = document.getElementById('undated-text').textContent;
+    box.click();
+    return { items, text, textAfter, before: items.map((i) => inWindowBefore[i]), after: items.map((i) => w.inWindow[i]),
+             datedOnly: w.datedOnly, restored: hv.timeWindow().datedOnly === false,
+             visible: !document.getElementById('undated-box').hidden };
+  });
+  console.log(`undated: ${JSON.stringify(undated)}`);
+  check(undated.visible && undated.items.length === 1 && map.undated.length === 1 &&
+        undated.items[0] === map.undated[0] && undated.text.startsWith('1 undated photograph'),
+        'the undated photograph is listed apart under the timeline');
+  check(undated.before.every(Boolean) && undated.datedOnly && undated.after.every((v) => !v) && undated.restored &&
+        undated.textAfter.includes('dated only'), 'dated only leaves the undated photographs out, and back');
   check(pageErrors.length === 0, 'no page errors after the timeline, screenshot, traffic and link' +
         (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));
 } catch (e) {

@@ -34,6 +34,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--redraw", o->redraw, "render every frame even when nothing changed (to measure frame times)");
   cmd->add_flag("--walk", o->walk, "start walking (default: flying)");
   cmd->add_flag("--hide-panel", o->hidePanel, "start with the control panel hidden (H toggles it)");
+  cmd->add_flag("--map", o->map, "start with the map open (M toggles it)");
   cmd->add_option("--moving-scale", o->movingScale,
                   "render resolution while moving, as a fraction of the window's (default 0.5)")
       ->check(CLI::Range(0.1, 1.0));

@@ -21,6 +21,7 @@ struct ViewerOptions {
   bool redraw = false;           // render every frame even when nothing changed (measuring)
   bool walk = false;             // start walking
   bool hidePanel = false;
+  bool map = false;              // start with the map open (M toggles it)
   double movingScale = 0.5;      // render resolution while the camera moves (progressive)
   std::string timeline;          // "A:B": the time window at these timeline positions (0..1)
   double playYearsPerSecond = 0;  // > 0: play the timeline from the start at this speed

@@ -13,6 +13,7 @@
 #include "hv/scene/scene_scale.h"
 #include "hv/session/make_renderer.h"
 #include "hv/viewer/desktop/debug_panel.h"
+#include "hv/viewer/desktop/map_panel.h"
 #include "hv/viewer/desktop/pose_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
 #include "hv/viewer/desktop/timeline_panel.h"
@@ -144,6 +145,10 @@ class Viewer {
       timeline_->startPlay(rs);
     }
     traffic_ = std::make_unique<TrafficPanel>(scene, rs);
+    std::vector<bool> dated;
+    for (const auto& d : timeline_->dates().when) dated.push_back(d.has_value());
+    map_ = std::make_unique<MapPanel>(scene, dated);
+    if (o_.map) map_->toggle(), map_->printDots(true);
     if (o_.trafficRate > 0.0 && traffic_->present()) traffic_->play().rate = o_.trafficRate, traffic_->toggle(rs);
 
     nav_->setCamera(startCamera(window_->framebufferSize()));
@@ -243,6 +248,7 @@ class Viewer {
     if (keys_.pressed(GLFW_KEY_SPACE)) togglePlay();
     if (keys_.pressed(GLFW_KEY_O)) togglePose();
     if (keys_.pressed(GLFW_KEY_Y)) traffic_->toggle(renderer_->settings());
+    if (keys_.pressed(GLFW_KEY_M)) map_->toggle();
   }
 
   // Pose mode (pose_panel.h) at the chosen photograph; its solved camera replaces the
@@ -387,6 +393,32 @@ class Viewer {
     focusStart_ = Clock::now();
     nav_->setMode(Mode::Fly);
     thumbnailFor_ = -1;
+  }
+
+  // The map (map_panel.h): a photograph's dot flies to it (focus + context), elsewhere to the
+  // ground there, the heading kept, at the view's height above the ground (walking: eye height).
+  void mapFrame() {
+    const MapPanel::Result r = map_->draw(nav_->camera(), focused_);
+    if (r.photo >= 0) {
+      std::cout << "viewer: map: to photograph " << r.photo << " (" << session_->scene.photos[size_t(r.photo)].camera.id
+                << ")" << std::endl;
+      focusOn(r.photo);
+    }
+    if (!r.ground) return;
+    leaveThenNow();
+    const MapOverview& m = map_->overview();
+    const Camera& cam = nav_->camera();
+    const double above = glm::dot(cam.center - m.groundAt(m.toPlane(cam.center)), m.axes.up);
+    const double eye = nav_->settings().eyeHeight;
+    const double height = nav_->mode() == Mode::Walk ? eye : std::max(eye, above);
+    FocusContextSettings s = focusSettings_;
+    s.holdSeconds = s.backSeconds = s.stepBack = 0.0;
+    s.zoomOut = 1.0;
+    s.levelHorizon = false;
+    focusPath_ =
+        std::make_unique<FocusContextPath>(cam, viewOverGround(cam, *r.ground, m.axes.up, height), s, caster_.get());
+    focusStart_ = Clock::now();
+    focused_ = -1;
   }
 
   void toggleRecording() {
@@ -704,6 +736,7 @@ class Viewer {
       if (overlay) drawThenNow(fb);
       // The panel after the frame, so it shows this frame's state; what it changes applies next frame.
       if (panelThisFrame) drawPanel();
+      if (panelThisFrame == showPanel_) mapFrame();  // not in a frame whose screenshot leaves the UI out
       poseFrame();
       window_->endUi();
       if (shotAfterUi) writeScreenshot(o_.screenshot, fb);
@@ -771,6 +804,7 @@ class Viewer {
   std::unique_ptr<PosePanel> pose_;
   bool poseScriptFailed_ = false;
   std::unique_ptr<TrafficPanel> traffic_;
+  std::unique_ptr<MapPanel> map_;
   ThenNowState thenNow_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;

@@ -1,0 +1,97 @@
+#include "hv/viewer/desktop/map_panel.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <iostream>
+
+namespace hv::viewer {
+
+MapPanel::MapPanel(const Scene& scene, const std::vector<bool>& dated) : map_(mapOverview(scene, dated)) {}
+
+MapPanel::Result MapPanel::draw(const Camera& view, int chosen) {
+  Result result;
+  if (!open_) return result;
+  ImGui::SetNextWindowPos(ImVec2(380, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(340, 360), ImGuiCond_FirstUseEver);
+  if (!ImGui::Begin("Map", &open_)) {
+    ImGui::End();
+    return result;
+  }
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const float w = std::max(64.0f, avail.x), h = std::max(64.0f, avail.y);
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton("##map", ImVec2(w, h));
+  const bool clicked = ImGui::IsItemClicked(ImGuiMouseButton_Left);
+  const MapFrame frame = fitMap(map_.extent, int(w), int(h));
+  auto at = [&](const glm::dvec2& plane) {
+    const glm::dvec2 px = frame.toPixel(plane);
+    return ImVec2(p0.x + float(px.x), p0.y + float(px.y));
+  };
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(p0, ImVec2(p0.x + w, p0.y + h), true);
+  dl->AddRectFilled(p0, ImVec2(p0.x + w, p0.y + h), IM_COL32(40, 42, 46, 255));
+  // The hillshade, a grey texture over the height grid's box.
+  if (!map_.shade.data.empty()) {
+    if (!uploaded_) {
+      Image8 rgba(map_.shade.width, map_.shade.height, 4);
+      for (int y = 0; y < rgba.height; ++y)
+        for (int x = 0; x < rgba.width; ++x) {
+          const std::uint8_t g = map_.shade.at(x, y, 0);
+          rgba.at(x, y, 0) = rgba.at(x, y, 1) = rgba.at(x, y, 2) = g;
+          rgba.at(x, y, 3) = map_.shade.at(x, y, 1);
+        }
+      shade_.upload(rgba);
+      uploaded_ = true;
+    }
+    const PlaneBox& b = map_.terrain.box;
+    dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(shade_.id())), at({b.lo.x, b.hi.y}),
+                 at({b.hi.x, b.lo.y}));
+  }
+  // The footprints, filled, then their outlines.
+  const auto& tri = map_.footprintTriangles;
+  for (std::size_t i = 0; i + 2 < tri.size(); i += 3)
+    dl->AddTriangleFilled(at(tri[i]), at(tri[i + 1]), at(tri[i + 2]), IM_COL32(150, 140, 130, 200));
+  const auto& seg = map_.outlineSegments;
+  for (std::size_t i = 0; i + 1 < seg.size(); i += 2)
+    dl->AddLine(at(seg[i]), at(seg[i + 1]), IM_COL32(40, 30, 25, 255), 1.0f);
+  // The photographs: a dot and a short line along the viewing direction.
+  for (const MapDot& d : map_.dots) {
+    const ImVec2 c = at(d.at);
+    const ImU32 colour = d.dated ? IM_COL32(240, 160, 40, 255) : IM_COL32(120, 170, 230, 255);
+    const glm::dvec2 dir = pixelDirection(d.direction);
+    dl->AddLine(c, ImVec2(c.x + 10.0f * float(dir.x), c.y + 10.0f * float(dir.y)), colour, 1.5f);
+    dl->AddCircleFilled(c, 3.5f, colour);
+    if (d.photo == chosen) dl->AddCircle(c, 6.5f, IM_COL32(0, 230, 230, 255), 0, 1.5f);
+  }
+  // The view: a red triangle pointing along its heading.
+  const MapView v = mapView(map_, view);
+  const ImVec2 c = at(v.at);
+  glm::dvec2 dir = pixelDirection(v.direction);
+  if (dir == glm::dvec2(0.0)) dir = {0.0, -1.0};
+  const glm::dvec2 side(-dir.y, dir.x);
+  auto off = [&](double f, double s) {
+    return ImVec2(c.x + float(f * dir.x + s * side.x), c.y + float(f * dir.y + s * side.y));
+  };
+  dl->AddTriangleFilled(off(11, 0), off(-5, 6), off(-5, -6), IM_COL32(230, 40, 40, 255));
+  dl->PopClipRect();
+  if (printDots_ && glm::vec4(p0.x, p0.y, w, h) != printedAt_) {
+    printedAt_ = glm::vec4(p0.x, p0.y, w, h);
+    for (const MapDot& d : map_.dots)
+      std::cout << "viewer: map: photograph " << d.photo << " at " << at(d.at).x << " " << at(d.at).y << "\n";
+    std::cout << std::flush;
+  }
+  if (clicked) {
+    const ImVec2 m = ImGui::GetIO().MousePos;
+    const MapClick click = clickMap(map_, frame, {m.x - p0.x, m.y - p0.y}, 6.0);
+    if (click.photo >= 0)
+      result.photo = click.photo;
+    else
+      result.ground = click.ground;
+  }
+  ImGui::End();
+  return result;
+}
+
+}  // namespace hv::viewer
