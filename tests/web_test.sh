@@ -13,7 +13,8 @@
 # in CI (CI=true, or HV_WEB_REQUIRED=1) it fails instead: there, tools/test.sh has installed and
 # built all of it, so a skip would hide a broken browser build.
 # For measurements: HV_WEB_SIZE=W (canvas width, default 320), HV_WEB_MEASURE=N (the median frame
-# time of N frames), HV_WEB_SCREENSHOT=FILE (the whole page).
+# time of N frames), HV_WEB_SCREENSHOT=FILE (the whole page), HV_WEB_POSE_SCREENSHOT=FILE (the whole
+# page in pose mode).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD

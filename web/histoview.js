@@ -295,6 +295,9 @@
       return t[Math.floor(t.length / 2)];
     };
     canvas.focus();
+    // Add-ons of the page (web/pose.js) start from here, with what they drive.
+    window.dispatchEvent(new CustomEvent('histoview-ready',
+      { detail: { viewer, FS, canvas, thenNow: thenNowUi, width: W, height: H } }));
   }
 
   // The render settings' controls, made from the schema the renderer declares

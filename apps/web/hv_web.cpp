@@ -10,6 +10,7 @@
 #include "hv/gpu/present.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/web_scene.h"
+#include "hv/pose/pose_session.h"
 #include "hv/render/renderer.h"
 #include "hv/render/settings_schema.h"
 #include "hv/traffic/trajectories.h"
@@ -239,6 +240,7 @@ class WebViewer {
         next.debug.photo = renderer_->settings().debug.photo;
         renderer_.reset();
         renderer_ = std::make_unique<render::Renderer>(*scene_, next, diag_);
+        renderedSinceMade_ = false;
       }
       dirty_ = true;
       return "";
@@ -282,6 +284,7 @@ class WebViewer {
       return false;
     }
     lastFrameMs_ = msSince(t0);
+    renderedSinceMade_ = true;
     dirty_ = false;
     ++frames_;
     return true;
@@ -534,6 +537,149 @@ class WebViewer {
     dirty_ = true;
     return json{{"ground", {click.ground.x, click.ground.y, click.ground.z}}}.dump();
   }
+  // Pose mode (docs/pose.md, "In the browser"; web/pose.js): pairs of a pixel of photograph i and
+  // the scene point under a click on the view (Renderer::pickViewPoint: the view's own depth, the
+  // browser having no ray caster), the camera solved from them (hv/pose/pose_session.h, as the
+  // desktop viewer's pose mode) and, as there, put into the scene: the renderer is made again with
+  // it, so the photograph is projected from its solved camera. Leaving puts the scene's camera back
+  // unless the solution was saved. Returns poseState() or {"error"}.
+  std::string poseStart(int i, bool solveFocal) {
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size())
+      return json{{"error", "pose mode: choose a photograph first (the list, N or P)"}}.dump();
+    if (poseSession_) poseLeave();
+    leaveThenNow();
+    posePhoto_ = i;
+    poseOriginal_ = scene_->photos[size_t(i)].camera;
+    poseSession_ = std::make_unique<pose::PoseSession>(poseOriginal_, solveFocal);
+    poseApplied_ = poseSession_->solutionVersion();
+    poseSaved_ = -1;
+    return poseState();
+  }
+  // The scene point under canvas pixel (x, y) of the last frame: {"hit", "x", "y", "z"}.
+  std::string pickView(double x, double y) {
+    const std::optional<glm::dvec3> p = pickAt(x, y);
+    if (!p) return json{{"hit", false}}.dump();
+    return json{{"hit", true}, {"x", p->x}, {"y", p->y}, {"z", p->z}}.dump();
+  }
+  // A click on the photograph (its pixels, top-left-corner origin), then one on the view
+  // (canvas pixels, picked): a pair. Each returns poseState(), its "message" saying what happened.
+  std::string poseClickPhoto(double u, double v) {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    poseSession_->clickPhoto({u, v});
+    return poseState();
+  }
+  std::string poseClickView(double x, double y) {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    poseSession_->clickScene(pickAt(x, y));
+    return poseApply();
+  }
+  // A pair given whole (a pixel of the photograph and a world point, scene frame).
+  std::string poseAddPair(double u, double v, double x, double y, double z) {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    if (poseSession_->clickPhoto({u, v})) poseSession_->clickScene(glm::dvec3(x, y, z));
+    return poseApply();
+  }
+  std::string poseMovePair(int index, double u, double v) {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    poseSession_->movePair(index, {u, v});
+    return poseApply();
+  }
+  std::string poseRemovePair(int index) {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    poseSession_->removePair(index);
+    return poseApply();
+  }
+  std::string poseSetSolveFocal(bool on) {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    poseSession_->setSolveFocal(on);
+    return poseApply();
+  }
+  // {"on", "photo", "id", "image", "width", "height", "step" ("photo" | "view"), "pending" ([u, v] |
+  // null), "needed", "solveFocal", "pairs": [{"u", "v", "x", "y", "z", and once solved "pu", "pv"
+  // (where the solved camera puts the point), "residual" (pixels), "inlier"}], "solved", "camera"
+  // (the solved camera, cameras.json schema; "original": the scene's before pose mode), "rms", "inliers",
+  // "centerSigma", "rotationSigmaDeg", "notes", "saved", "message"}.
+  std::string poseState() const {
+    if (!poseSession_) return json{{"on", false}}.dump();
+    const pose::PoseSession& s = *poseSession_;
+    const Photo& photo = scene_->photos[size_t(posePhoto_)];
+    json pairs = json::array();
+    const std::vector<pose::ResidualLine> lines = s.residualLines();
+    for (size_t k = 0; k < s.pairs().size(); ++k) {
+      const pose::PosePair& p = s.pairs()[k];
+      json j = {{"u", p.pixel.x}, {"v", p.pixel.y}, {"x", p.world.x}, {"y", p.world.y}, {"z", p.world.z}};
+      if (k < lines.size())
+        j.update({{"pu", lines[k].projected.x},
+                  {"pv", lines[k].projected.y},
+                  {"residual", lines[k].pixels},
+                  {"inlier", lines[k].inlier}});
+      pairs.push_back(j);
+    }
+    json out = {{"on", true},
+                {"photo", posePhoto_},
+                {"id", poseOriginal_.id},
+                {"image", photo.imagePath},
+                {"width", poseOriginal_.width},
+                {"height", poseOriginal_.height},
+                {"step", s.step() == pose::PoseSession::Step::Photo ? "photo" : "view"},
+                {"pending", s.pending() ? json{s.pending()->x, s.pending()->y} : json(nullptr)},
+                {"needed", s.pairsNeeded()},
+                {"solveFocal", s.solveFocal()},
+                {"pairs", pairs},
+                {"solved", s.solution().has_value()},
+                {"saved", s.solution() && poseSaved_ == s.solutionVersion()},
+                {"message", s.message()}};
+    {
+      Photo o = photo;
+      o.camera = poseOriginal_;
+      out["original"] = json::parse(cameraJson({o}, "/scene"))["cameras"][0];
+    }
+    if (const auto& r = s.solution()) {
+      Photo p = photo;
+      p.camera = r->camera;
+      out["camera"] = json::parse(cameraJson({p}, "/scene"))["cameras"][0];
+      out["rms"] = r->rmsPixels;
+      out["inliers"] = r->inlierCount;
+      out["centerSigma"] = {r->centerSigma.x, r->centerSigma.y, r->centerSigma.z};
+      out["rotationSigmaDeg"] = r->rotationSigmaDegrees;
+      out["notes"] = r->notes;
+    }
+    return out.dump();
+  }
+  // Where the photograph's camera before pose mode puts world point (x, y, z): {"u", "v", "inFront"}
+  // (its pixels, distorted). For scripts and the test: a known camera's pixels of picked points.
+  std::string poseProjectOriginal(double x, double y, double z) const {
+    if (!poseSession_) return json{{"error", "pose mode is off"}}.dump();
+    const Projection p = poseOriginal_.project({x, y, z});
+    return json{{"u", p.pxDistorted.x}, {"v", p.pxDistorted.y}, {"inFront", p.inFront}}.dump();
+  }
+  // The view from the solved camera with the photograph over it (then and now at its solved
+  // camera, the page's opacity slider fading it): enterThenNow's answer.
+  std::string poseLookFromSolved(int width, int height) {
+    if (!poseSession_ || !poseSession_->solution())
+      return json{{"error", "pose mode: nothing solved yet (" +
+                                std::to_string(poseSession_ ? poseSession_->pairsNeeded() : 4) + " pairs or more)"}}
+          .dump();
+    return enterThenNow(posePhoto_, width, height);
+  }
+  // The solved camera as a native cameras.json (the photograph's image path relative to the
+  // export), to download; marks the solution saved (kept on leaving). {"error"} before a solution.
+  std::string poseSave() {
+    if (!poseSession_ || !poseSession_->solution()) return json{{"error", "pose mode: nothing solved to save"}}.dump();
+    Photo p = scene_->photos[size_t(posePhoto_)];
+    p.camera = poseSession_->solution()->camera;
+    poseSaved_ = poseSession_->solutionVersion();
+    return cameraJson({p}, "/scene");
+  }
+  void poseLeave() {
+    if (!poseSession_) return;
+    const bool restore = poseSession_->solution() && poseSaved_ != poseSession_->solutionVersion();
+    const int photo = posePhoto_;
+    poseSession_.reset();
+    posePhoto_ = -1;
+    if (restore) setPhotoCamera(photo, poseOriginal_);
+  }
+  bool poseOn() const { return poseSession_ != nullptr; }
 
   // The current camera (cameras.json schema), e.g. to share a view.
   std::string camera() const {
@@ -614,6 +760,35 @@ class WebViewer {
     return "";
   }
 
+  // Pose mode: a new solution (or none any more) goes into the scene, as the desktop viewer's
+  // (setPhotoCamera): the renderer, which holds the scene's cameras, is made again.
+  std::string poseApply() {
+    if (poseSession_ && poseSession_->solutionVersion() != poseApplied_) {
+      poseApplied_ = poseSession_->solutionVersion();
+      setPhotoCamera(posePhoto_, poseSession_->solution() ? poseSession_->solution()->camera : poseOriginal_);
+    }
+    return poseState();
+  }
+  // The scene point under canvas pixel (x, y), from the view depth of the frame on the canvas: a
+  // renderer made since (a new solution) draws its first frame now.
+  std::optional<glm::dvec3> pickAt(double x, double y) {
+    if (!renderer_ || !nav_ || context_ <= 0) return std::nullopt;
+    const Camera& c = nav_->camera();
+    if (!renderedSinceMade_ && !frame(c.width, c.height, true, false)) return std::nullopt;
+    emscripten_webgl_make_context_current(context_);
+    return renderer_->pickViewPoint({x, y});
+  }
+  void setPhotoCamera(int photo, const Camera& camera) {
+    leaveThenNow();
+    scene_->photos[size_t(photo)].camera = camera;
+    render::RenderSettings next = rendererSettings();
+    next.debug.photo = renderer_->settings().debug.photo;
+    renderer_.reset();
+    renderer_ = std::make_unique<render::Renderer>(*scene_, next, diag_);
+    renderedSinceMade_ = false;
+    dirty_ = true;
+  }
+
   EMSCRIPTEN_WEBGL_CONTEXT_HANDLE context_ = 0;
   std::string error_;
   Diagnostics diag_;
@@ -635,6 +810,12 @@ class WebViewer {
   double sceneMs_ = 0.0;
   bool dirty_ = true;
   int thenNow_ = -1;  // the photograph of then and now, -1: off
+  std::unique_ptr<pose::PoseSession> poseSession_;
+  int posePhoto_ = -1;
+  Camera poseOriginal_;             // the photograph's camera before pose mode
+  int poseApplied_ = 0;             // the solution version in the scene
+  int poseSaved_ = -1;              // the solution version saved, -1: none
+  bool renderedSinceMade_ = false;  // the renderer has drawn the canvas's frame (picking reads it)
   PhotoDates dates_;
   DateHistogram histogram_;
   TimelineAxis axis_;
@@ -700,6 +881,20 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("mapData", &WebViewer::mapData)
       .function("mapView", &WebViewer::mapView)
       .function("mapClick", &WebViewer::mapClick);
+      .function("pickView", &WebViewer::pickView)
+      .function("poseStart", &WebViewer::poseStart)
+      .function("poseClickPhoto", &WebViewer::poseClickPhoto)
+      .function("poseClickView", &WebViewer::poseClickView)
+      .function("poseAddPair", &WebViewer::poseAddPair)
+      .function("poseMovePair", &WebViewer::poseMovePair)
+      .function("poseRemovePair", &WebViewer::poseRemovePair)
+      .function("poseSetSolveFocal", &WebViewer::poseSetSolveFocal)
+      .function("poseState", &WebViewer::poseState)
+      .function("poseProjectOriginal", &WebViewer::poseProjectOriginal)
+      .function("poseLookFromSolved", &WebViewer::poseLookFromSolved)
+      .function("poseSave", &WebViewer::poseSave)
+      .function("poseLeave", &WebViewer::poseLeave)
+      .function("poseOn", &WebViewer::poseOn);
 }
 
 }  // namespace hv::web

@@ -14,8 +14,11 @@
 // photographs' dots where their cameras are (north up, one scale), drawn on the map's canvas; a
 // click on a dot goes to that photograph, one elsewhere to the ground there. The photograph
 // tests/web_test.sh left undated is listed apart under the timeline, and dated only leaves it out.
+// Pose mode: six pairs clicked on the photograph and on the view pose photograph 0 at its known
+// camera (within 0.5 m and 0.5°), a misplaced point dragged into place; look from it, save.
 // Writes web-points.png and web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the
-// whole page. Prints "N passed, M failed"; exit code 1 on failure.
+// whole page, HV_WEB_POSE_SCREENSHOT=FILE the whole page in pose mode. Prints "N passed, M failed";
+// exit code 1 on failure.
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -396,6 +399,102 @@ try {
         'the undated photograph is listed apart under the timeline');
   check(undated.before.every(Boolean) && undated.datedOnly && undated.after.every((v) => !v) && undated.restored &&
         undated.textAfter.includes('dated only'), 'dated only leaves the undated photographs out, and back');
+  // Pose mode (web/pose.js): photograph 0 posed from 6 pairs made by synthetic clicks, the known
+  // camera being the scene's own. The view at that camera (then and now puts it there); world
+  // points picked on it (the renderer's view depth); their pixels in the photograph from the
+  // known camera; each pair a click on the photograph's canvas, then one on the view. One pair is
+  // first clicked 12 px off and dragged onto its pixel. The solved camera must be the known one.
+  const POSE_CENTRE_M = 0.5, POSE_ROTATION_DEG = 0.5;
+  const framesBefore = await page.evaluate(() => {
+    const frames = hv.status.frames;  // the last tick's: a frame at the new camera comes after it
+    hv.focus(0);
+    hv.thenNow(true);
+    hv.thenNow(false);
+    return frames;
+  });
+  await page.waitForFunction((f) => hv.status.frames > f, framesBefore, { timeout: 60000, polling: 100 });
+  await page.click('#pose-start');
+  const startState = await page.evaluate(() => hv.poseState());
+  check(startState.on && startState.photo === 0 && !(await page.locator('#pose-side').isHidden()),
+        'pose mode shows the chosen photograph beside the view');
+  // Candidate view pixels (integers: the click lands exactly there) over the canvas, kept where the
+  // view shows a surface whose point the known camera sees inside the photograph (8 px margin).
+  const candidates = await page.evaluate(({ cw, ch }) => {
+    const out = [];
+    for (const fy of [0.55, 0.8, 0.35, 0.92, 0.68, 0.45])
+      for (const fx of [0.12, 0.88, 0.5, 0.3, 0.7]) {
+        const x = Math.round(fx * cw), y = Math.round(fy * ch);
+        const p = hv.pickView(x, y);
+        if (!p.hit) continue;
+        const q = hv.poseProjectOriginal(p.x, p.y, p.z);
+        const s = hv.poseState();
+        if (q.inFront && q.u > 8 && q.v > 8 && q.u < s.width - 8 && q.v < s.height - 8) out.push({ x, y, world: [p.x, p.y, p.z], u: q.u, v: q.v });
+      }
+    return out;
+  }, { cw, ch });
+  // The top-right corner of this view is sky: nothing to pick there.
+  check(!(await page.evaluate(({ cw }) => hv.pickView(cw - 3, 3).hit, { cw })), 'the sky gives no point');
+  // Six spread over the picture: the first of each row of fractions first.
+  const chosen = [];
+  for (const c of candidates) if (chosen.length < 6 && !chosen.some((d) => Math.hypot(d.x - c.x, d.y - c.y) < 0.15 * cw)) chosen.push(c);
+  console.log(`pose: ${candidates.length} candidate pixels, ${chosen.length} chosen`);
+  check(chosen.length === 6, 'six points of the view picked with their pixels in the photograph');
+  const photoBox = await page.locator('#pose-photo').boundingBox();
+  const photoScale = photoBox.width / startState.width;
+  const clickPhoto = (u, v) => page.locator('#pose-photo').click({ position: { x: u * photoScale, y: v * photoScale } });
+  for (const [k, c] of chosen.entries()) {
+    await clickPhoto(k === 0 ? c.u + 12 : c.u, k === 0 ? c.v - 5 : c.v);
+    await page.locator('#view').click({ position: { x: c.x, y: c.y } });
+  }
+  const unfixed = await page.evaluate(() => hv.poseState());
+  // Dragging pair 1 onto its pixel.
+  await page.locator('#pose-photo').scrollIntoViewIfNeeded();
+  const box2 = await page.locator('#pose-photo').boundingBox();
+  await page.mouse.move(box2.x + unfixed.pairs[0].u * photoScale, box2.y + unfixed.pairs[0].v * photoScale);
+  await page.mouse.down();
+  await page.mouse.move(box2.x + chosen[0].u * photoScale, box2.y + chosen[0].v * photoScale, { steps: 4 });
+  await page.mouse.up();
+  const posed = await page.evaluate(() => hv.poseState());
+  const worldOff = Math.max(...posed.pairs.map((p, k) => Math.hypot(p.x - chosen[k].world[0], p.y - chosen[k].world[1], p.z - chosen[k].world[2])));
+  const pixelOff = Math.max(...posed.pairs.map((p, k) => Math.hypot(p.u - chosen[k].u, p.v - chosen[k].v)));
+  console.log(`pose: ${posed.pairs.length} pairs; the clicks' world points within ${worldOff.toExponential(2)} m and pixels within ` +
+              `${pixelOff.toFixed(3)} px of the intended; before the drag pair 1's residual ` +
+              `${unfixed.pairs[0].residual !== undefined ? unfixed.pairs[0].residual.toFixed(2) : '-'} px; ${posed.message}`);
+  check(posed.pairs.length === 6 && worldOff < 1e-6 && pixelOff < 1.0, 'six pairs made by clicks on the photograph and on the view');
+  const angle = (a, b) => {  // degrees between two row-major rotations
+    let tr = 0;
+    for (let i = 0; i < 3; ++i) for (let j = 0; j < 3; ++j) tr += a[3 * i + j] * b[3 * i + j];
+    return Math.acos(Math.min(1, Math.max(-1, (tr - 1) / 2))) * 180 / Math.PI;
+  };
+  if (posed.solved) {
+    const dc = Math.hypot(...posed.camera.center.map((x, i) => x - posed.original.center[i]));
+    const dr = angle(posed.camera.rotation, posed.original.rotation);
+    console.log(`pose: solved camera ${dc.toFixed(3)} m and ${dr.toFixed(3)}° from the known one; ${posed.rms.toFixed(2)} px RMS; ` +
+                `residuals ${posed.pairs.map((p) => p.residual.toFixed(2)).join(' ')} px`);
+    check(dc < POSE_CENTRE_M && dr < POSE_ROTATION_DEG, `the solved camera is the known one (centre < ${POSE_CENTRE_M} m, rotation < ${POSE_ROTATION_DEG}°)`);
+    check(posed.pairs.every((p) => p.inlier && p.pu !== undefined), 'every pair an inlier, with its residual line');
+    check(unfixed.pairs[0].residual === undefined || unfixed.pairs[0].residual > 2, 'the misplaced point showed as a residual before the drag');
+  } else {
+    check(false, 'the pairs give a camera: ' + posed.message);
+  }
+  // The photograph projected from the solved camera: the renderer made again, converging without errors.
+  await page.waitForFunction(() => hv.status.converged, null, { timeout: 120000, polling: 250 });
+  // HV_WEB_POSE_SCREENSHOT=FILE: the whole page in pose mode (the README's picture).
+  if (process.env.HV_WEB_POSE_SCREENSHOT) await page.screenshot({ path: process.env.HV_WEB_POSE_SCREENSHOT, fullPage: true });
+  // Look from it, faded by the pose panel's opacity slider; then save the cameras.json.
+  await page.locator('#pose-opacity').fill('0.4');
+  await page.click('#pose-look');
+  await page.waitForFunction(() => hv.status.thenNow === 0, null, { timeout: 60000, polling: 250 });
+  const look = await page.evaluate(() => ({ hidden: document.getElementById('then-now-image').hidden,
+                                            opacity: document.getElementById('then-now-image').style.opacity }));
+  check(!look.hidden && Math.abs(parseFloat(look.opacity) - 0.4) < 1e-6, 'look from it lays the photograph over the view at the slider\'s opacity');
+  const [saved] = await Promise.all([page.waitForEvent('download'), page.click('#pose-save')]);
+  const savedJson = JSON.parse(fs.readFileSync(await saved.path(), 'utf8'));
+  const cam = savedJson.cameras && savedJson.cameras[0];
+  check(cam && cam.id === posed.original.id && Math.hypot(...cam.center.map((x, i) => x - posed.camera.center[i])) < 1e-9 &&
+        saved.suggestedFilename().endsWith('.cameras.json'), 'save downloads the solved camera as a cameras.json');
+  await page.click('#pose-start');  // leave: saved, so the solved camera stays
+  check(!(await page.evaluate(() => hv.poseState().on)) && await page.locator('#pose-side').isHidden(), 'leaving pose mode hides the photograph');
   check(pageErrors.length === 0, 'no page errors after the timeline, screenshot, traffic and link' +
         (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));
 } catch (e) {

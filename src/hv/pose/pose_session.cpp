@@ -49,6 +49,20 @@ bool PoseSession::removePair(int index) {
   return true;
 }
 
+bool PoseSession::movePair(int index, glm::dvec2 px) {
+  if (index < 0 || index >= int(pairs_.size())) {
+    message_ = "no pair " + std::to_string(index + 1) + " to move";
+    return false;
+  }
+  if (!(px.x >= 0.0 && px.y >= 0.0 && px.x <= photo_.width && px.y <= photo_.height)) {
+    message_ = "pair " + std::to_string(index + 1) + " cannot leave the photograph";
+    return false;
+  }
+  pairs_[size_t(index)].pixel = px;
+  solve();
+  return true;
+}
+
 void PoseSession::solve() {
   const int n = int(pairs_.size());
   if (n < pairsNeeded()) {

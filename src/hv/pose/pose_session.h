@@ -61,6 +61,10 @@ class PoseSession {
   void cancel() { pending_.reset(); }
   // Removes pair `index` (and solves again). False when there is no such pair.
   bool removePair(int index);
+  // Moves pair `index`'s pixel on the photograph (a dragged point: its world point kept) and
+  // solves again. False, with a message, when there is no such pair or the pixel is outside the
+  // photograph.
+  bool movePair(int index, glm::dvec2 pixel);
 
   // The last solution; none before enough pairs or when the pairs cannot give one (message()).
   const std::optional<pose::PoseResult>& solution() const { return solution_; }

@@ -154,6 +154,38 @@ TEST(PoseSession, ClicksOutOfOrderSkyAndRemoval) {
   EXPECT_NE(s.message().find("1 more"), std::string::npos) << s.message();
 }
 
+TEST(PoseSession, DraggingAMisplacedPointFixesIt) {
+  const Mesh m = city();
+  const RayCaster caster(m);
+  const Camera t = truth();
+  PoseSession s(wrong(t));
+  const glm::dvec2 clicks[] = {{150.5, 700.5}, {1050.5, 760.5}, {400.5, 380.5}, {820.5, 420.5}};
+  for (const glm::dvec2 px : clicks) {
+    s.clickPhoto(px);
+    ASSERT_TRUE(s.clickScene(pick(caster, t, px)));
+  }
+  ASSERT_TRUE(s.solution());
+  // Pair 3's photograph pixel 25 px off its point: the four pairs no longer agree.
+  ASSERT_TRUE(s.movePair(2, clicks[2] + glm::dvec2(25.0, -10.0)));
+  const bool off =
+      !s.solution() || glm::distance(s.solution()->camera.center, t.center) > 0.5 || s.residualLines()[2].pixels > 5.0;
+  EXPECT_TRUE(off) << s.message();
+  // Dragged back onto it: the camera again, the world point unchanged.
+  const glm::dvec3 world = s.pairs()[2].world;
+  const int before = s.solutionVersion();
+  ASSERT_TRUE(s.movePair(2, clicks[2]));
+  EXPECT_GT(s.solutionVersion(), before);
+  EXPECT_EQ(s.pairs()[2].world, world);
+  ASSERT_TRUE(s.solution()) << s.message();
+  EXPECT_LT(glm::distance(s.solution()->camera.center, t.center), 0.1);
+  // Nowhere to move to: refused and said.
+  EXPECT_FALSE(s.movePair(4, {10.0, 10.0}));
+  EXPECT_NE(s.message().find("no pair 5"), std::string::npos) << s.message();
+  EXPECT_FALSE(s.movePair(0, {1300.0, 10.0}));
+  EXPECT_NE(s.message().find("cannot leave"), std::string::npos) << s.message();
+  EXPECT_EQ(s.pairs()[0].pixel, clicks[0]);
+}
+
 TEST(PoseSession, RayThroughAPixelMeetsWhatItShows) {
   const Camera t = truth();
   const glm::dvec3 X = t.center + glm::dvec3(3.0, 30.0, -4.0);

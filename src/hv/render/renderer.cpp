@@ -7,6 +7,7 @@
 #include "hv/render/frame_builder.h"
 #include "hv/render/gl/gl_backend.h"
 #include "hv/render/gl/programs.h"
+#include "hv/render/view_pick.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +19,10 @@ struct Renderer::Impl {
   RenderSettings settings;
   gl::GlBackend backend;
   FrameBuilder builder;
+  // The last frame's view and view-depth rectangle (pickViewPoint).
+  Camera lastView;
+  ViewRect lastRect;
+  bool rendered = false;
 
   Impl(const Scene& scene, RenderSettings st, Diagnostics& diag)
       : settings(std::move(st)), backend(diag), builder(scene, settings, diag, backend) {}
@@ -27,6 +32,9 @@ struct Renderer::Impl {
     const Frame frame = builder.build(view, mode, withCounts);
     ViewPassStats passStats;
     RenderOutput out = backend.runViewPasses(frame, passStats);
+    lastView = frame.view;
+    lastRect = frame.rect;
+    rendered = true;
     builder.viewPassesDone(frame, passStats);
     builder.stats().lastFrameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -71,5 +79,14 @@ const RenderStats& Renderer::stats() const { return impl_->builder.stats(); }
 PhotoState Renderer::photoState(int photo) const { return impl_->builder.photoState(photo); }
 int Renderer::slotOf(int photo) const { return impl_->builder.slotOf(photo); }
 unsigned int Renderer::colorTexture() const { return impl_->backend.colorTexture(); }
+std::optional<glm::dvec3> Renderer::pickViewPoint(glm::dvec2 px) {
+  if (!impl_->rendered) return std::nullopt;
+  const ViewRect& r = impl_->lastRect;
+  const std::optional<ViewDepthTexel> t = viewDepthTexel(impl_->lastView, r.frustum, r.depthSize, px);
+  if (!t) return std::nullopt;
+  const std::optional<double> stored = impl_->backend.readViewDepth(t->texel);
+  if (!stored) return std::nullopt;
+  return worldFromViewDepth(impl_->lastView, t->pxIdeal, *stored, r.frustum.near, r.frustum.far);
+}
 
 }  // namespace hv::render

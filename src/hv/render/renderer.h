@@ -17,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,13 @@ class Renderer {
   // last view's; it stays valid until the next render() (which may reallocate it for another size). 0 before the first
   // frame.
   unsigned int colorTexture() const;
+  // The scene point under pixel `px` of the last rendered view (its pixels, top-left-corner
+  // origin), from that frame's view depth (render/view_pick.h): the geometry and points the
+  // picture shows. None for the sky, outside the view, or before the first frame. Reads one
+  // pixel back: for a click, not every frame. The picker of builds without a ray caster (the
+  // browser); accurate to the depth's 24-bit packing of [near, far] and to the view-depth
+  // target's texel (Frame::rect.depthSize).
+  std::optional<glm::dvec3> pickViewPoint(glm::dvec2 px);
 
  private:
   struct Impl;

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -71,6 +72,11 @@ class GlBackend final : public Backend {
   void finishDepthMaps() override;
   RenderOutput runViewPasses(const Frame& frame, ViewPassStats& stats) override;
   unsigned int colorTexture() const override { return viewColor_.id(); }
+  // The last frame's view depth at `texel` of its target (Frame::rect.depthSize, row 0 at the top):
+  // the stored value, [0, 1] between near and far, 1 where nothing was drawn (render/view_pick.h);
+  // none before the first frame or outside the target. Reads one pixel back (pick_pass.cpp): a
+  // click's cost, not a frame's. GL backend only: the picker of builds without a ray caster.
+  std::optional<double> readViewDepth(glm::ivec2 texel);
 
  private:
   bool naive() const { return layout_.binding == Binding::Naive; }
@@ -154,6 +160,11 @@ class GlBackend final : public Backend {
   gpu::VertexArray frustumVao_;
   gpu::Buffer frustumBuffer_;
   std::uint64_t frustumVersion_ = 0;
+
+  // Picking (pick_pass.cpp), linked on first use: a 1x1 target the packed depth is read from.
+  PickDepthProgram pickDepthProgram_;
+  gpu::Framebuffer pickFbo_;
+  gpu::Texture pickTarget_;
 
   // The traffic (vehicles_pass.cpp), linked on first use.
   VehicleProgram vehicleProgram_;

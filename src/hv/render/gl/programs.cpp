@@ -46,6 +46,7 @@ const ProgramSources& programs() {
       {"lines.vert", "lines.frag", {}},
       {"vehicles.vert", "vehicles.frag", {}},
       {"fullscreen.vert", "vehicle_depth.frag", {}},
+      {"fullscreen.vert", "pick_depth.frag", {}},
   };
   return p;
 }
@@ -214,13 +215,20 @@ VehicleDepthProgram::VehicleDepthProgram(const ProgramSource& src) : program(lin
   far = u.required("u_far");
 }
 
+PickDepthProgram::PickDepthProgram(const ProgramSource& src) : program(linkProgram(src)) {
+  const gpu::UniformResolver u(program, programName(src, {}));
+  viewDepth = u.required("u_viewDepth");
+  texel = u.required("u_texel");
+}
+
 }  // namespace gl
 
 const std::vector<ProgramSource>& programSources() {
   static const std::vector<ProgramSource> list = [] {
     const gl::ProgramSources& p = gl::programs();
-    return std::vector<ProgramSource>{p.depth,      p.viewDepth, p.shade,      p.tileDepth, p.naive,    p.pointDepth,
-                                      p.pointColor, p.pointMat3, p.debugDepth, p.lines,     p.vehicles, p.vehicleDepth};
+    return std::vector<ProgramSource>{p.depth,      p.viewDepth,    p.shade,     p.tileDepth,  p.naive,
+                                      p.pointDepth, p.pointColor,   p.pointMat3, p.debugDepth, p.lines,
+                                      p.vehicles,   p.vehicleDepth, p.pickDepth};
   }();
   return list;
 }

@@ -26,6 +26,7 @@ struct ProgramSources {
   ProgramSource lines;       // DebugSettings::frusta
   ProgramSource vehicles;    // the traffic's models and contact shadows
   ProgramSource vehicleDepth;  // the view's linear depth as the rasteriser's, for the traffic
+  ProgramSource pickDepth;     // one texel of the view's depth, packed for a read-back (picking)
 };
 const ProgramSources& programs();
 
@@ -119,6 +120,15 @@ struct VehicleDepthProgram {
   GLint viewDepth = -1, near = -1, far = -1;
   VehicleDepthProgram() = default;
   explicit VehicleDepthProgram(const ProgramSource& src);
+};
+
+// fullscreen.vert + pick_depth.frag: one texel of the view's linear depth packed into RGBA8
+// (GlBackend::readViewDepth).
+struct PickDepthProgram {
+  gpu::Program program;
+  GLint viewDepth = -1, texel = -1;
+  PickDepthProgram() = default;
+  explicit PickDepthProgram(const ProgramSource& src);
 };
 
 }  // namespace hv::render::gl
