@@ -490,8 +490,8 @@ try {
   check(!look.hidden && Math.abs(parseFloat(look.opacity) - 0.4) < 1e-6, 'look from it lays the photograph over the view at the slider\'s opacity');
   const [saved] = await Promise.all([page.waitForEvent('download'), page.click('#pose-save')]);
   const savedJson = JSON.parse(fs.readFileSync(await saved.path(), 'utf8'));
-  const cam = savedJson.cameras && savedJson.cameras[0];
-  check(cam && cam.id === posed.original.id && Math.hypot(...cam.center.map((x, i) => x - posed.camera.center[i])) < 1e-9 &&
+  const savedCam = savedJson.cameras && savedJson.cameras[0];
+  check(savedCam && savedCam.id === posed.original.id && Math.hypot(...savedCam.center.map((x, i) => x - posed.camera.center[i])) < 1e-9 &&
         saved.suggestedFilename().endsWith('.cameras.json'), 'save downloads the solved camera as a cameras.json');
   await page.click('#pose-start');  // leave: saved, so the solved camera stays
   check(!(await page.evaluate(() => hv.poseState().on)) && await page.locator('#pose-side').isHidden(), 'leaving pose mode hides the photograph');
