@@ -880,7 +880,7 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("thenNow", &WebViewer::thenNow)
       .function("mapData", &WebViewer::mapData)
       .function("mapView", &WebViewer::mapView)
-      .function("mapClick", &WebViewer::mapClick);
+      .function("mapClick", &WebViewer::mapClick)
       .function("pickView", &WebViewer::pickView)
       .function("poseStart", &WebViewer::poseStart)
       .function("poseClickPhoto", &WebViewer::poseClickPhoto)
