@@ -22,20 +22,9 @@ set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 source "$ROOT/tests/services/harness.sh" "$@"  # HV, DIR; checks, runs, clean-up
 
-missing() {
-  if [[ -n ${CI:-} ]]; then echo "FAIL  $1 (CI is set: tools/install-deps.sh installs it)"; exit 1; fi
-  echo "skipped: $1 (tools/install-deps.sh)"
-  exit 77
-}
 for tool in lighttpd python3 timeout; do command -v "$tool" >/dev/null || missing "$tool not found"; done
 [[ -x ${HV_IIPSRV:-/usr/lib/iipimage-server/iipsrv.fcgi} ]] || missing "iipsrv not found (iipimage-server)"
 [[ -x ${HV_MAPSERV:-/usr/lib/cgi-bin/mapserv} ]] || missing "mapserv not found (cgi-mapserver)"
-
-export HV_LOG=${HV_LOG:-error}
-export HV_CACHE_DIR=$DIR/cache          # never the user's cache
-unset HV_NO_CACHE HV_CACHE_MAX_MB
-export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
-RUN_LIMIT=60
 
 # --- the city, its photographs as pyramidal TIFFs, the stack
 run demo demo --out "$DIR" --generate-only --buildings 6 --photos 6 --views 2

@@ -17,29 +17,11 @@
 # unless CI is set, where it fails. Prints "N passed, M failed".
 set -uo pipefail
 
-HV=${1:?usage: tiles3d_test.sh path/to/histoview [scratch-dir]}
-HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-tiles3d-test.XXXXXX")}
-rm -rf "$DIR"
-mkdir -p "$DIR"
-DIR=$(cd "$DIR" && pwd)
-
-missing() {
-  if [[ -n ${CI:-} ]]; then echo "FAIL  $1 (CI is set: tools/install-deps.sh installs it)"; exit 1; fi
-  echo "skipped: $1 (tools/install-deps.sh)"
-  exit 77
-}
+source "$ROOT/tests/services/harness.sh" "$@"  # HV, DIR; checks, runs, clean-up, missing, stack_up
 for tool in lighttpd python3 timeout; do command -v "$tool" >/dev/null || missing "$tool not found"; done
 [[ -x ${HV_MAPSERV:-/usr/lib/cgi-bin/mapserv} ]] || missing "mapserv not found (cgi-mapserver)"
 
-export HV_LOG=${HV_LOG:-error}
-export HV_CACHE_DIR=$DIR/cache          # never the user's cache
-unset HV_NO_CACHE HV_CACHE_MAX_MB
-export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
-RUN_LIMIT=60
-
-source "$ROOT/tests/services/harness.sh"
 
 run demo demo --out "$DIR" --generate-only --buildings 4 --photos 4 --views 1
 expect_clean demo 0
@@ -51,14 +33,7 @@ cp -r "$city/tiles" "$city/tiles-404"
 gone=$(cd "$city/tiles-404" && ls r?*.pnts | head -1)
 rm -f "$city/tiles-404/$gone"
 
-port=$(free_port)
-if ! "$ROOT/tools/services.sh" up "$city" "$port" >"$DIR/up.out" 2>&1; then
-  fail "services.sh up: $(tail -3 "$DIR/up.out")"
-  echo "$passed passed, $failed failed"
-  exit 1
-fi
-pass "services.sh up on 127.0.0.1:$port"
-URL=http://127.0.0.1:$port
+stack_up
 
 scene() {  # scene NAME POINTS_ENTRY
   printf '{"crs": "EPSG:2154", "points": %s, "cameras": {"path": "cameras.json"}}\n' "$2" >"$city/$1.json"

@@ -3,8 +3,8 @@
 # script sets ROOT (the repository) first and passes its own arguments,
 #   source "$ROOT/tests/services/harness.sh" "$@"     (path/to/histoview [scratch-dir])
 # which set HV (histoview, an absolute path) and DIR (the scratch folder, emptied; by default a
-# new one under $TMPDIR named after the script). It sets RUN_LIMIT (seconds any one histoview run
-# may take) before its first `run`, and reads $passed and $failed at the end.
+# new one under $TMPDIR named after the script), and the environment below; the sourcing script
+# may change RUN_LIMIT before its first `run`, and reads $passed and $failed at the end.
 
 script=$(basename "$0" .sh)
 HV=${1:?usage: $script.sh path/to/histoview [scratch-dir]}
@@ -14,6 +14,17 @@ rm -rf "$DIR"
 mkdir -p "$DIR"
 DIR=$(cd "$DIR" && pwd)
 
+# What every service test runs under: histoview's log at errors only, the response cache in the
+# scratch folder (never the user's), short and bounded HTTP settings so that the faults resolve in
+# seconds (the defaults are longer: docs/services.md; the time-out leaves room for a loaded
+# machine, where mapserv runs as CGI, a process per request), and RUN_LIMIT, the seconds any one
+# histoview run may take.
+export HV_LOG=${HV_LOG:-error}
+export HV_CACHE_DIR=$DIR/cache
+unset HV_NO_CACHE HV_CACHE_MAX_MB
+export GDAL_HTTP_TIMEOUT=5 GDAL_HTTP_CONNECTTIMEOUT=5 GDAL_HTTP_MAX_RETRY=2 GDAL_HTTP_RETRY_DELAY=0.1
+RUN_LIMIT=60
+
 passed=0
 failed=0
 pass() { passed=$((passed + 1)); echo "ok    $*"; }
@@ -21,6 +32,14 @@ fail() { failed=$((failed + 1)); echo "FAIL  $*"; }
 check() {
   local what=$1; shift
   if "$@"; then pass "$what"; else fail "$what"; fi
+}
+
+# missing WHAT: a server or tool the test needs is not installed: skipped (exit 77), unless CI is
+# set (tools/install-deps.sh installs everything there): failed.
+missing() {
+  if [[ -n ${CI:-} ]]; then echo "FAIL  $1 (CI is set: tools/install-deps.sh installs it)"; exit 1; fi
+  echo "skipped: $1 (tools/install-deps.sh)"
+  exit 77
 }
 
 # The demo city the stack serves; the fault proxy's pid once started.
