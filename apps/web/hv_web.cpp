@@ -236,11 +236,7 @@ class WebViewer {
       if (s.apply == render::SettingApply::Live) {
         s.set(renderer_->settings(), s.get(rendererSettings()));
       } else {
-        render::RenderSettings next = rendererSettings();
-        next.debug.photo = renderer_->settings().debug.photo;
-        renderer_.reset();
-        renderer_ = std::make_unique<render::Renderer>(*scene_, next, diag_);
-        renderedSinceMade_ = false;
+        rebuildRenderer();
       }
       dirty_ = true;
       return "";
@@ -781,12 +777,17 @@ class WebViewer {
   void setPhotoCamera(int photo, const Camera& camera) {
     leaveThenNow();
     scene_->photos[size_t(photo)].camera = camera;
+    rebuildRenderer();
+    dirty_ = true;
+  }
+  // A new renderer with the page's settings (a setting that does not apply live, a photograph's
+  // new camera), the debug view's photograph kept; the old one is released first (its GL objects).
+  void rebuildRenderer() {
     render::RenderSettings next = rendererSettings();
     next.debug.photo = renderer_->settings().debug.photo;
     renderer_.reset();
     renderer_ = std::make_unique<render::Renderer>(*scene_, next, diag_);
     renderedSinceMade_ = false;
-    dirty_ = true;
   }
 
   EMSCRIPTEN_WEBGL_CONTEXT_HANDLE context_ = 0;
