@@ -206,15 +206,15 @@ Tiles3dTileset parseTileset(std::string_view text, const std::string& url, const
                      "expected none (no 3D Tiles extension is read), got " + shown(doc["extensionsRequired"])));
 
   // Depth first with an explicit stack (a deep tree must not exhaust the call stack).
-  struct Todo {
+  struct Pending {
     const json* tile;
     int parent;
     std::string path;
   };
-  std::vector<Todo> todo{{&doc["root"], -1, "root"}};
-  while (!todo.empty()) {
-    const Todo item = todo.back();
-    todo.pop_back();
+  std::vector<Pending> pending{{&doc["root"], -1, "root"}};
+  while (!pending.empty()) {
+    const Pending item = pending.back();
+    pending.pop_back();
     const json& j = *item.tile;
     const std::string& f = item.path;
     if (!j.is_object()) throw InputError(inputMessage(url, f, "expected a tile (an object), got " + shown(j)));
@@ -270,7 +270,7 @@ Tiles3dTileset parseTileset(std::string_view text, const std::string& url, const
       const json& kids = j["children"];
       if (!kids.is_array()) throw InputError(inputMessage(url, f + ".children", "expected an array of tiles"));
       for (std::size_t k = kids.size(); k-- > 0;)
-        todo.push_back({&kids[k], index, f + ".children[" + std::to_string(k) + "]"});
+        pending.push_back({&kids[k], index, f + ".children[" + std::to_string(k) + "]"});
     }
   }
   // Children were pushed in reverse so that they are visited in order; parents precede children.
