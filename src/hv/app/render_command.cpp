@@ -40,17 +40,17 @@ std::string vec3String(const glm::dvec3& v) {
   return s.str();
 }
 
-void printPoints(const PointCloud& points) {
+void printPoints(const PointCloud& points, const Scene::PointTilesInfo& pointTiles) {
   std::cout << "points     " << points.size();
   if (points.empty()) {
     std::cout << "\n";
     return;
   }
   std::cout << " (" << points.fields().describe() << "; " << points.chunks.size() << " chunks)\n";
-  if (const std::optional<PointTilesetInfo> t = lastPointTilesetInfo(points.sourcePath))
-    std::cout << "  3d tiles " << t->tilesRead << " tiles read of " << t->tilesInTileset << " in the tileset, "
-              << t->tilesKept << " kept, " << t->tilesFailed << " failed, " << t->bytes << " bytes fetched"
-              << (t->budgetLimited ? " (point budget reached)" : "") << "\n";
+  if (const Scene::PointTilesInfo& t = pointTiles; t.tilesInTileset > 0)
+    std::cout << "  3d tiles " << t.tilesRead << " tiles read of " << t.tilesInTileset << " in the tileset, "
+              << t.tilesKept << " kept, " << t.tilesFailed << " failed, " << t.bytes << " bytes fetched"
+              << (t.budgetLimited ? " (point budget reached)" : "") << "\n";
   const Aabb b = points.bounds();
   std::cout << "  bounds   " << vec3String(b.lo) << " .. " << vec3String(b.hi) << "\n";
   std::string crs = points.crs.empty() ? "(none declared)" : points.crs;
@@ -204,7 +204,7 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   printTilesAndMemory(scene);
   std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()
             << " triangles\n";
-  printPoints(scene.points);
+  printPoints(scene.points, scene.pointTilesInfo);
   std::cout << "photos     " << scene.photos.size() << " (camera spacing " << std::setprecision(4)
             << scene.cameraSpacing() << ")\n";
   const SceneScale scale = sceneScale(scene);

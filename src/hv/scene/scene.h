@@ -89,6 +89,16 @@ struct Scene {
   // renderer draws `buildings`. Shared by copies of the scene.
   std::shared_ptr<const BuildingTileSet> buildingTiles;
   Mesh mesh;  // arbitrary geometry (scene.json "mesh"), e.g. a photogrammetric mesh
+  // Points from a 3D Tiles tileset (hv/io/native/points_tiles.h): what was read; all zero for a
+  // point file or none.
+  struct PointTilesInfo {
+    std::size_t tilesInTileset = 0;  // tiles known (the external tilesets read included)
+    std::size_t tilesRead = 0;       // point tiles fetched and parsed
+    std::size_t tilesKept = 0;       // of which in the cloud (a REPLACE-refined parent is not)
+    std::size_t tilesFailed = 0;     // named and left out
+    std::uint64_t bytes = 0;         // fetched: the tileset JSON and the tiles
+    bool budgetLimited = false;      // a refinement was refused for the point budget
+  } pointTilesInfo;
   // scene.json "points" (empty: none), organised into chunks (hv/scene/chunks.h) at load, in the
   // scene frame; `points.crs` keeps the CRS they were given in (the file's, or points.crs).
   PointCloud points;

@@ -11,7 +11,6 @@
 #include <functional>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <queue>
 #include <thread>
@@ -91,18 +90,6 @@ bool isTilesetPath(const std::string& path) {
   const std::string p = lower(path.substr(0, path.find_first_of("?#")));
   const std::string name = "tileset.json";
   return p.size() >= name.size() && p.compare(p.size() - name.size(), name.size(), name) == 0;
-}
-
-namespace {
-std::mutex g_infoMutex;
-std::map<std::string, PointTilesetInfo> g_info;
-}  // namespace
-
-std::optional<PointTilesetInfo> lastPointTilesetInfo(const std::string& url) {
-  const std::lock_guard<std::mutex> lock(g_infoMutex);
-  const auto it = g_info.find(url);
-  if (it == g_info.end()) return std::nullopt;
-  return it->second;
 }
 
 PointCloud loadPointTileset(const PointTilesetRequest& request, const std::vector<Camera>& cameras, Diagnostics& diag,
@@ -267,10 +254,6 @@ PointCloud loadPointTileset(const PointTilesetRequest& request, const std::vecto
              std::to_string(info.bytes) + " bytes, " + std::to_string(cloud.size()) + " points, " + std::to_string(s) +
              " s");
   if (infoOut) *infoOut = info;
-  {
-    const std::lock_guard<std::mutex> lock(g_infoMutex);
-    g_info[request.url] = info;
-  }
   return cloud;
 }
 

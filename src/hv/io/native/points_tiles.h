@@ -9,6 +9,7 @@
 #include "hv/camera/camera.h"
 #include "hv/io/native/georef.h"
 #include "hv/scene/point_cloud.h"
+#include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
 
 #include <cstddef>
@@ -29,14 +30,8 @@ constexpr std::size_t kPointTilesBudget = 20'000'000;
 constexpr int kPointTilesConcurrency = 4;
 
 // What was read of a tileset, for `histoview info`.
-struct PointTilesetInfo {
-  std::size_t tilesInTileset = 0;  // tiles known (the external tilesets read included)
-  std::size_t tilesRead = 0;       // point tiles fetched and parsed
-  std::size_t tilesKept = 0;       // of which in the cloud (a REPLACE-refined parent is not)
-  std::size_t tilesFailed = 0;     // named and left out
-  std::uint64_t bytes = 0;         // fetched: the tileset JSON and the tiles
-  bool budgetLimited = false;      // a refinement was refused for the point budget
-};
+// What a tileset's reading read (kept in the scene for `histoview info`).
+using PointTilesetInfo = Scene::PointTilesInfo;
 
 struct PointTilesetRequest {
   std::string url;      // tileset.json: a local path or a URL
@@ -58,9 +53,5 @@ bool isTilesetPath(const std::string& path);
 // `diag` ("…/r04.pnts: points tile: HTTP error code : 404 (tile root.children[4] left out)").
 PointCloud loadPointTileset(const PointTilesetRequest& request, const std::vector<Camera>& cameras, Diagnostics& diag,
                             PointTilesetInfo* info = nullptr);
-
-// What the last loadPointTileset of `url` in this process read (the cloud's sourcePath is the
-// URL), for `histoview info`; nullopt when none. (Scene has no field for it yet.)
-std::optional<PointTilesetInfo> lastPointTilesetInfo(const std::string& url);
 
 }  // namespace hv

@@ -312,7 +312,7 @@ void loadPointTilesetIntoScene(Scene& scene, const PointTilesetRequest& request,
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Camera> cameras;
     for (const Photo& p : scene.photos) cameras.push_back(p.camera);
-    scene.points = loadPointTileset(request, cameras, diag);
+    scene.points = loadPointTileset(request, cameras, diag, &scene.pointTilesInfo);
     if (!scene.crs.empty()) georeferencePoints(scene.points, request.georef, request.url, diag);
     recordSource(scene, "points", scene.points.crs);
     estimatePointNormals(scene.points, entry, path);
