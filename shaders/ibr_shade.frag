@@ -368,6 +368,10 @@ void main() {
     vec2 dt, uv, p, pd;
     float z;
     if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
+    // Geometry weights: a photograph ranked no better than the pixel's K+1-th so far cannot enter
+    // the best list, so it is dropped before its depth test and texel fetch (the costly part).
+    float pen = geometry ? hv_penalty(im, P, normal) : 0.0;
+    if (geometry && nBest == cap && pen >= bestP[cap - 1]) continue;
     if (im.layer > 0.0) {
       if (!hv_onPeeledSurface(im, z, dt, P)) continue;
     } else if (u_occlusion &&
@@ -400,8 +404,6 @@ void main() {
       if (blend.done) break;
       continue;
     }
-    float pen = hv_penalty(im, P, normal);
-    if (nBest == cap && pen >= bestP[cap - 1]) continue;
     int j = min(nBest, cap - 1);
     while (j > 0 && bestP[j - 1] > pen) {
       bestP[j] = bestP[j - 1];
