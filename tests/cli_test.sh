@@ -299,6 +299,17 @@ for l in layers:
 for name in ("mergedimage.png", "Thumbnails/thumbnail.png"):
     z.getinfo(name)
 PY
+# The peeling the command used is printed; the GPU pass (when a GL context can be made) and the CPU
+# reference give the same stack.
+expect_out "layers export" "peeling: (GPU|CPU) "
+run layers-cpu layers export "$city/scene.json" --image "$layer_id" "$DIR/layers-cpu.ora" --size 160x120 --peeling cpu
+expect_rc "layers export --peeling cpu" 0
+expect_out "layers export --peeling cpu" "peeling: CPU "
+check "layers export: the same stack whichever peels" python3 - "$DIR/layers.ora" "$DIR/layers-cpu.ora" <<'PY'
+import sys, zipfile
+a, b = (zipfile.ZipFile(f).read("stack.xml") for f in sys.argv[1:3])
+assert a == b, (a, b)
+PY
 run layers-unknown layers export "$city/scene.json" --image no-such-photo "$DIR/layers-x.ora"
 expect_rc "layers export: unknown photograph" 2
 expect_out "layers export: unknown photograph" "no photograph with id 'no-such-photo'"

@@ -1,9 +1,11 @@
 #include "hv/app/layers_command.h"
 
+#include "hv/gpu/context.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/layers/native/layer_export.h"
 #include "hv/layers/native/layer_import.h"
 #include "hv/layers/native/openraster.h"
+#include "hv/render/layer_peeling.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
 
@@ -25,6 +27,7 @@ struct LayersExportOptions {
   std::string size;
   bool noPrefill = false;
   double terrainTile = 50.0;
+  std::string peeling = "auto";
 };
 
 int runLayersExport(const LayersExportOptions& o) {
@@ -57,12 +60,45 @@ int runLayersExport(const LayersExportOptions& o) {
       return kExitNotProduced;
     }
   }
+  // Visibility layers: on the GPU (render/layer_peeling.h) when a GL context can be made, the CPU
+  // reference finishing from the first cycle; on the CPU alone with --peeling cpu.
+  std::unique_ptr<gpu::Context> context;
+  std::string peelingNote = "CPU (per-pixel hit lists of the ray casts)";
+  if (o.peeling != "cpu") {
+    try {
+      context = gpu::createHeadlessContext();
+      context->makeCurrent();
+    } catch (const std::runtime_error& e) {
+      if (o.peeling == "gpu") {
+        std::cerr << "error: --peeling gpu: no GL context: " << e.what() << "\n";
+        return kExitNotProduced;
+      }
+      peelingNote = std::string("CPU (no GL context for the GPU pass: ") + e.what() + ")";
+    }
+  }
+  render::GpuObjectLayers gpuLayers;
+  if (context)
+    settings.objectLayers = [&gpuLayers](const Camera& camera, const layers::SceneObjects& objects) {
+      gpuLayers = render::peelObjectLayersGl(camera, objects.geometry, objects.objectOfTriangle,
+                                             objects.terrainTriangle, objects.objects.size());
+      return gpuLayers.layerOfObject;
+    };
   layers::LayerExport ex;
   try {
     ex = layers::exportLayers(scene, index, settings, diag);
   } catch (const InputError& e) {
     std::cerr << "error: camera '" << o.image << "': " << e.what() << "\n";
     return kExitNotProduced;
+  } catch (const std::runtime_error& e) {  // the GL pass
+    std::cerr << "error: camera '" << o.image << "': " << e.what() << "\n";
+    return kExitNotProduced;
+  }
+  if (context) {
+    std::ostringstream n;
+    n << "GPU (item buffer, " << gpuLayers.queries << " occlusion queries; " << context->description()
+      << "): " << gpuLayers.layers << " whole-object layers of " << gpuLayers.objectsSeen << " objects seen";
+    if (gpuLayers.stoppedAtCycle) n << ", then a cycle: the layers from there by the CPU reference";
+    peelingNote = n.str();
   }
   try {
     layers::writeOpenRaster(o.out, ex.document);
@@ -95,6 +131,7 @@ int runLayersExport(const LayersExportOptions& o) {
     << std::setprecision(1)
     << (mem.wholeImageTexels > 0 ? 100.0 * double(mem.subImageTexels) / double(mem.wholeImageTexels) : 0.0) << " %)\n"
     << std::setprecision(2);
+  m << "peeling: " << peelingNote << "\n";
   for (const auto& l : ex.imageLayers)
     m << "  " << l.name << ": " << l.box.width() << "x" << l.box.height() << " at (" << l.box.x0 << ", " << l.box.y0
       << "), " << l.photoPixels << " seen, " << l.prefilledPixels << " pre-filled, " << l.emptyPixels
@@ -122,6 +159,11 @@ void addLayersCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--no-prefill", o->noPrefill, "leave the hidden parts transparent");
   cmd->add_option("--terrain-tile", o->terrainTile, "side of the terrain's objects (tiles), metres")
       ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--peeling", o->peeling,
+                  "visibility layers: gpu (the GL pass: item buffer, occlusion queries; the CPU finishes from the "
+                  "first cycle), cpu (the reference, from the ray casts), auto (gpu when a GL context can be made)")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->capture_default_str();
   setAction(*cmd, exitCode, [o] { return runLayersExport(*o); });
 }

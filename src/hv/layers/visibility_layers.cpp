@@ -1,5 +1,7 @@
 #include "hv/layers/visibility_layers.h"
 
+#include "hv/layers/object_layers.h"
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
@@ -26,16 +28,16 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-}  // namespace
-
-VisibilityLayers peelVisibilityLayers(const PixelHits& h) {
+void checkHits(const PixelHits& h) {
   if (h.width < 0 || h.height < 0 || h.first.size() != h.pixelCount() + 1 || h.first.back() != h.hits.size())
     throw std::invalid_argument("visibility layers: the per-pixel hit lists do not match a " + std::to_string(h.width) +
                                 " x " + std::to_string(h.height) + " image (" + std::to_string(h.first.size()) +
                                 " offsets, " + std::to_string(h.hits.size()) + " hits)");
-  VisibilityLayers out;
-  out.layerOfHit.assign(h.hits.size(), 0);
-  std::size_t unassigned = h.hits.size();
+}
+
+// Peels the hits `out` leaves unassigned, appending layers after out.layers.
+void peelRest(const PixelHits& h, VisibilityLayers& out) {
+  std::size_t unassigned = std::size_t(std::count(out.layerOfHit.begin(), out.layerOfHit.end(), 0));
   const std::size_t pixels = h.pixelCount();
 
   while (unassigned > 0) {
@@ -105,6 +107,41 @@ VisibilityLayers peelVisibilityLayers(const PixelHits& h) {
     }
     out.layers.push_back(std::move(current));
   }
+}
+
+}  // namespace
+
+VisibilityLayers peelVisibilityLayers(const PixelHits& h) {
+  checkHits(h);
+  VisibilityLayers out;
+  out.layerOfHit.assign(h.hits.size(), 0);
+  peelRest(h, out);
+  return out;
+}
+
+VisibilityLayers completeVisibilityLayers(const PixelHits& h, const std::vector<std::uint16_t>& layerOfObject) {
+  checkHits(h);
+  // The given layers, renumbered without those no hit is in (an object the pass saw on no ray here).
+  std::uint16_t deepest = 0;
+  for (const SurfaceHit& hit : h.hits)
+    if (hit.object < layerOfObject.size()) deepest = std::max(deepest, layerOfObject[hit.object]);
+  std::vector<std::vector<std::uint32_t>> objects(deepest + 1u);
+  for (const SurfaceHit& hit : h.hits)
+    if (hit.object < layerOfObject.size() && layerOfObject[hit.object] > 0)
+      objects[layerOfObject[hit.object]].push_back(hit.object);
+  std::vector<std::uint16_t> renumber(deepest + 1u, 0);
+  VisibilityLayers out;
+  for (std::size_t k = 1; k < objects.size(); ++k) {
+    if (objects[k].empty()) continue;
+    std::sort(objects[k].begin(), objects[k].end());
+    objects[k].erase(std::unique(objects[k].begin(), objects[k].end()), objects[k].end());
+    out.layers.push_back({objects[k], {}});
+    renumber[k] = std::uint16_t(out.layers.size());
+  }
+  out.layerOfHit.assign(h.hits.size(), 0);
+  for (std::size_t i = 0; i < h.hits.size(); ++i)
+    if (h.hits[i].object < layerOfObject.size()) out.layerOfHit[i] = renumber[layerOfObject[h.hits[i].object]];
+  peelRest(h, out);
   return out;
 }
 

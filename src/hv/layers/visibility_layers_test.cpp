@@ -1,5 +1,7 @@
 #include "hv/layers/visibility_layers.h"
 
+#include "hv/layers/object_layers.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -127,6 +129,30 @@ TEST(VisibilityLayers, CycleBehindAnOccluder) {
   ASSERT_GE(v.layers.size(), 3u);
   EXPECT_EQ(v.layers[0].objects, ids("F"));
   EXPECT_EQ(v.cycles.size(), 1u);
+}
+
+TEST(VisibilityLayers, CompletedFromObjectLayersMatchesThePeel) {
+  // F over the ring of three: given F in layer 1 (and object H, on no ray, in layer 2: dropped),
+  // the ring is found and split after it, as the whole peel does.
+  const PixelHits h = fromRows({{"FAB", "BC", "CA", "FA", "B", "C"}});
+  const VisibilityLayers whole = peelVisibilityLayers(h);
+  std::vector<std::uint16_t> given(8, 0);
+  given[5] = 1;  // F
+  given[7] = 2;  // H
+  const VisibilityLayers v = completeVisibilityLayers(h, given);
+  EXPECT_EQ(v.layerOfHit, whole.layerOfHit);
+  ASSERT_EQ(v.layers.size(), whole.layers.size());
+  for (std::size_t k = 0; k < v.layers.size(); ++k) {
+    EXPECT_EQ(v.layers[k].objects, whole.layers[k].objects) << "layer " << k + 1;
+    EXPECT_EQ(v.layers[k].split, whole.layers[k].split) << "layer " << k + 1;
+  }
+  EXPECT_EQ(v.cycles, whole.cycles);
+  // Every object given: nothing left to peel, the layers as given.
+  const PixelHits simple = fromRows({{"ABG", "BG", "G"}});
+  const VisibilityLayers s = completeVisibilityLayers(simple, {1, 2, 0, 0, 0, 0, 3});
+  ASSERT_EQ(s.layers.size(), 3u);
+  EXPECT_EQ(s.layers[2].objects, ids("G"));
+  EXPECT_EQ(s.layerOfHit, (std::vector<std::uint16_t>{1, 2, 3, 2, 3, 3}));
 }
 
 TEST(VisibilityLayers, EmptyAndInconsistentInput) {

@@ -2,6 +2,7 @@
 
 #include "hv/camera/frustum.h"
 #include "hv/image/image.h"
+#include "hv/layers/object_layers.h"
 #include "hv/scene/native/raycast.h"
 
 #include <algorithm>
@@ -95,7 +96,12 @@ LayerExport exportLayers(const Scene& scene, std::size_t photoIndex, const Layer
   out.hits = castPixelHits(cam, out.objects, caster, settings.rays);
   out.castSeconds = since(t0);
   t0 = Clock::now();
-  out.visibility = peelVisibilityLayers(out.hits);
+  if (settings.objectLayers) {
+    out.gpuObjectLayers = settings.objectLayers(cam, out.objects);
+    out.visibility = completeVisibilityLayers(out.hits, out.gpuObjectLayers);
+  } else {
+    out.visibility = peelVisibilityLayers(out.hits);
+  }
   out.peelSeconds = since(t0);
   for (const auto& cycle : out.visibility.cycles) {
     std::string names;

@@ -20,6 +20,8 @@
 #include "hv/util/diagnostics.h"
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,11 @@ struct LayerExportSettings {
   double seenToleranceMetres = 0.05, seenToleranceRelative = 2e-3;
   int namesPerLayer = 6;  // objects named in a layer's name before "+N more"
   RayCastSettings rays;
+  // Whole-object layers found another way, for the camera at the layers' size (the GL pass,
+  // render/layer_peeling.h: 1-based layer per object, 0 for those it leaves); the hits then take
+  // them and the rest is peeled on the CPU (completeVisibilityLayers). Empty: the CPU reference
+  // peels every layer.
+  std::function<std::vector<std::uint16_t>(const Camera&, const SceneObjects&)> objectLayers;
 };
 
 struct ImageLayerInfo {
@@ -49,10 +56,11 @@ struct LayerExport {
   SceneObjects objects;
   PixelHits hits;
   VisibilityLayers visibility;
-  std::vector<ImageLayerInfo> imageLayers;  // in the stack's order
-  std::vector<std::string> cycleNames;      // each cycle met, its objects' names joined
-  OraDocument document;                     // top first: guide, L1..., background
-  int prefillPhotos = 0;                    // other photographs decoded for the pre-fill
+  std::vector<std::uint16_t> gpuObjectLayers;  // what settings.objectLayers gave, when set
+  std::vector<ImageLayerInfo> imageLayers;     // in the stack's order
+  std::vector<std::string> cycleNames;         // each cycle met, its objects' names joined
+  OraDocument document;                        // top first: guide, L1..., background
+  int prefillPhotos = 0;                       // other photographs decoded for the pre-fill
   double castSeconds = 0.0, peelSeconds = 0.0, fillSeconds = 0.0;
 };
 

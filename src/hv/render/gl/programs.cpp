@@ -1,6 +1,7 @@
 #include "hv/render/gl/programs.h"
 
 #include "hv/gpu/program.h"
+#include "hv/render/gl/layer_peel_programs.h"
 
 #include <algorithm>
 
@@ -226,9 +227,10 @@ PickDepthProgram::PickDepthProgram(const ProgramSource& src) : program(linkProgr
 const std::vector<ProgramSource>& programSources() {
   static const std::vector<ProgramSource> list = [] {
     const gl::ProgramSources& p = gl::programs();
-    return std::vector<ProgramSource>{p.depth,      p.viewDepth,    p.shade,     p.tileDepth,  p.naive,
-                                      p.pointDepth, p.pointColor,   p.pointMat3, p.debugDepth, p.lines,
-                                      p.vehicles,   p.vehicleDepth, p.pickDepth};
+    const gl::LayerPeelSources& peel = gl::layerPeelPrograms();
+    return std::vector<ProgramSource>{p.depth,      p.viewDepth,  p.shade,      p.tileDepth, p.naive,    p.pointDepth,
+                                      p.pointColor, p.pointMat3,  p.debugDepth, p.lines,     p.vehicles, p.vehicleDepth,
+                                      p.pickDepth,  peel.terrain, peel.item,    peel.test};
   }();
   return list;
 }
