@@ -14,7 +14,8 @@
 # and then and now at a photograph's camera: at opacity 1 the window is the photograph itself, with
 # a swipe line at the middle its left half and, right of the line, the render without it.
 # Then the traffic played (--traffic-play, docs/traffic.md): its clock moves from --time.
-# Then the map (--map): a click on a photograph's dot (xdotool) goes to that photograph.
+# Then the map (--map): a click on a photograph's dot (xdotool) goes to that photograph; the wheel
+# zooms about the pointer, a drag pans, a click on the zoomed map still goes there.
 # Exits 77 (skipped) when xvfb-run or the viewer is not available, saying which.
 set -uo pipefail
 
@@ -295,11 +296,32 @@ else
 fi
 
 # The map (M; --map opens it): a click on a photograph's dot goes to that photograph. The viewer
-# prints where it draws each dot (window pixels); xdotool clicks the dot farthest from the others,
-# and the viewer must name that photograph as the one it goes to.
+# prints where it draws each dot (window pixels) whenever the map moves; xdotool clicks the dot
+# farthest from the others, and the viewer must name that photograph as the one it goes to. Then
+# four wheel notches up on that dot zoom the map by 2 about it (every distance between dots doubles,
+# the dot stays under the pointer along the side the map fills), a drag moves every dot by the same amount without going
+# anywhere, and a click on the dot where it is now goes to it again.
 if command -v xdotool >/dev/null; then
   mapdir=$DIR/map
   mkdir -p "$mapdir"
+  # The dots printed after byte FROM of view.out, the last position of each: "INDEX X Y" lines.
+  cat >"$mapdir/dots.py" <<'EOF'
+import re, sys
+text = open("view.out").read()[int(sys.argv[1]) if len(sys.argv) > 1 else 0:]
+dots = {}
+for m in re.finditer(r"viewer: map: photograph (\d+) at ([-\d.e]+) ([-\d.e]+)", text):
+    dots[int(m.group(1))] = (float(m.group(2)), float(m.group(3)))
+for i, (x, y) in sorted(dots.items()):
+    print(i, x, y)
+EOF
+  # The drag: 30 and 20 pixels from the dot away from the dots' centroid (the map can pan that way).
+  cat >"$mapdir/drag.py" <<'EOF'
+import sys
+x, y = float(sys.argv[1]), float(sys.argv[2])
+d = [tuple(map(float, l.split()[1:])) for l in open("zoomed.txt")]
+cx, cy = sum(p[0] for p in d) / len(d), sum(p[1] for p in d) / len(d)
+print(30 if x >= cx else -30, 20 if y >= cy else -20)
+EOF
   xvfb-run -a -s "-screen 0 1280x1024x24" bash -c '
     cd "$1" || exit 1
     "$2" view "$3/scene.json" --size 1024x768 --redraw --frames 100000 --hide-panel --map --print-frame-times \
@@ -324,6 +346,35 @@ print(i, round(dots[i][0]), round(dots[i][1]))")
       xdotool mousemove --window "$win" "$x" "$y"; sleep 1
       xdotool click 1
       for _ in $(seq 150); do grep -q "viewer: map: to photograph" view.out && break; sleep 0.2; done
+      # Each step waits for two frames (slow ones under load see several events at once).
+      waitframes() {
+        local n=$(($(grep -c "^frame" view.out) + $1))
+        for _ in $(seq 300); do (($(grep -c "^frame" view.out) >= n)) && break; sleep 0.1; done
+      }
+      waitframes 2
+      python3 dots.py >before.txt
+      from=$(stat -c %s view.out)
+      for _ in 1 2 3 4; do xdotool click 4; sleep 0.1; done
+      waitframes 2
+      python3 dots.py "$from" >zoomed.txt
+      read -r dx dy < <(python3 drag.py "$x" "$y")
+      echo "$dx $dy" >drag
+      from=$(stat -c %s view.out)
+      xdotool mousedown 1; waitframes 2
+      for s in 1 2 3 4 5 6 7 8 9 10; do
+        xdotool mousemove --window "$win" $((x + dx * s / 10)) $((y + dy * s / 10)); sleep 0.05
+      done
+      waitframes 2; xdotool mouseup 1; waitframes 2
+      python3 dots.py "$from" >panned.txt
+      read -r nx ny < <(python3 -c "import sys
+for l in open(\"panned.txt\"):
+    i, px, py = l.split()
+    if i == sys.argv[1]: print(round(float(px)), round(float(py)))" "$index")
+      if [[ -n $nx ]]; then
+        xdotool mousemove --window "$win" "$nx" "$ny"; waitframes 2
+        xdotool click 1
+        for _ in $(seq 150); do (($(grep -c "viewer: map: to photograph" view.out) >= 2)) && break; sleep 0.2; done
+      fi
     fi
     kill "$pid" 2>/dev/null
     wait "$pid" 2>/dev/null
@@ -335,6 +386,39 @@ print(i, round(dots[i][0]), round(dots[i][1]))")
     exit 1
   fi
   grep "viewer: map: to photograph" "$mapdir/view.out" | head -1
+  # Zoom (factor 2 = 2^(4/4), hv::viewer::wheelZoomFactor) and pan against the printed dots.
+  if ! python3 - "$mapdir" "$clicked" <<'EOF'; then
+import itertools, math, sys
+d, clicked = sys.argv[1], int(sys.argv[2])
+read = lambda f: {int(l.split()[0]): tuple(map(float, l.split()[1:])) for l in open(f"{d}/{f}")}
+before, zoomed, panned = read("before.txt"), read("zoomed.txt"), read("panned.txt")
+drag = tuple(map(float, open(f"{d}/drag").read().split()))
+assert zoomed and panned and zoomed.keys() == before.keys() == panned.keys(), "the dots were not printed again"
+ratios = [math.dist(zoomed[i], zoomed[j]) / math.dist(before[i], before[j])
+          for i, j in itertools.combinations(before, 2) if math.dist(before[i], before[j]) > 20]
+# The dot stays under the pointer along the side the whole map fills; along the other the map is
+# kept on its extent (MapZoom's limits) and may shift.
+stay = min(abs(zoomed[clicked][k] - before[clicked][k]) for k in (0, 1))
+print(f"map zoom: distances x {min(ratios):.3f} to {max(ratios):.3f}, the pointed dot moved "
+      f"{zoomed[clicked][0] - before[clicked][0]:.2f}, {zoomed[clicked][1] - before[clicked][1]:.2f} px")
+assert all(abs(r - 2.0) < 0.02 for r in ratios), "four wheel notches should scale the map by 2"
+assert stay < 1.5, "the dot under the pointer should stay there"
+shifts = [(panned[i][0] - zoomed[i][0], panned[i][1] - zoomed[i][1]) for i in zoomed]
+s0 = shifts[0]
+print(f"map drag of {drag}: dots moved by {s0[0]:.1f}, {s0[1]:.1f}")
+assert all(math.dist(s, s0) < 0.5 for s in shifts), "a drag moves every dot by the same amount"
+assert math.hypot(*s0) > 5 and all(s * g >= 0 and abs(s) <= abs(g) + 1 for s, g in zip(s0, drag)), \
+    "the dots should follow the drag (up to the map's edge)"
+EOF
+    echo "FAIL: the map's zoom or pan (above)"
+    exit 1
+  fi
+  if (($(grep -c "viewer: map: to photograph $clicked " "$mapdir/view.out") != 2)); then
+    echo "FAIL: a click on photograph $clicked's dot on the zoomed and panned map did not go to it (once)"
+    grep "viewer: map:" "$mapdir/view.out" | tail -5
+    exit 1
+  fi
+  echo "a click on the zoomed and panned map goes to photograph $clicked"
 fi
 
 # The traffic played (hv/viewer/traffic_clock.h): from --time 5 at 10 simulated seconds a second,

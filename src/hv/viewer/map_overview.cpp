@@ -39,6 +39,58 @@ MapFrame fitMap(const PlaneBox& box, int width, int height) {
   return f;
 }
 
+MapFrame zoomedMap(const PlaneBox& box, int width, int height, const MapZoom& zoom) {
+  MapFrame f = fitMap(box, width, height);
+  f.pixelsPerUnit *= zoom.zoom;
+  const glm::dvec2 c = zoom.center.value_or(0.5 * (box.lo + box.hi));
+  // toPixel(c) = offset + ppu (c.x - lo.x, hi.y - c.y) = (width, height) / 2.
+  f.offset = 0.5 * glm::dvec2(f.width, f.height) - f.pixelsPerUnit * glm::dvec2(c.x - box.lo.x, box.hi.y - c.y);
+  return f;
+}
+
+MapZoom clampZoom(const PlaneBox& box, int width, int height, MapZoom zoom, const MapZoomLimits& limits) {
+  const double z = std::isfinite(zoom.zoom) ? zoom.zoom : 1.0;
+  zoom.zoom = std::clamp(z, 1.0, std::max(limits.maxZoom, 1.0));
+  const glm::dvec2 mid = 0.5 * (box.lo + box.hi);
+  if (zoom.zoom == 1.0 || !zoom.center) {
+    zoom.center.reset();  // the fitted layout
+    if (zoom.zoom == 1.0) return zoom;
+  }
+  const MapFrame f = zoomedMap(box, width, height, zoom);
+  const glm::dvec2 halfSpan = 0.5 * glm::dvec2(f.width, f.height) / f.pixelsPerUnit;  // plane units
+  glm::dvec2 c = zoom.center.value_or(mid);
+  for (int a = 0; a < 2; ++a) {
+    if (!std::isfinite(c[a])) c[a] = mid[a];
+    c[a] =
+        box.size()[a] > 2.0 * halfSpan[a] ? std::clamp(c[a], box.lo[a] + halfSpan[a], box.hi[a] - halfSpan[a]) : mid[a];
+  }
+  zoom.center = c;
+  return zoom;
+}
+
+MapZoom zoomAbout(const PlaneBox& box, int width, int height, const MapZoom& zoom, const glm::dvec2& pixel,
+                  double factor, const MapZoomLimits& limits) {
+  if (!(factor > 0.0) || !std::isfinite(factor)) return zoom;
+  const MapFrame before = zoomedMap(box, width, height, zoom);
+  const glm::dvec2 under = before.toPlane(pixel);
+  MapZoom z = zoom;
+  z.zoom = std::clamp(zoom.zoom * factor, 1.0, std::max(limits.maxZoom, 1.0));
+  // The centre c with toPixel(under) = pixel: c = under - (pixel - mid px) (1, -1) / ppu.
+  const double ppu = before.pixelsPerUnit / zoom.zoom * z.zoom;
+  const glm::dvec2 d = (pixel - 0.5 * glm::dvec2(before.width, before.height)) / ppu;
+  z.center = under - glm::dvec2(d.x, -d.y);
+  return clampZoom(box, width, height, z, limits);
+}
+
+MapZoom panBy(const PlaneBox& box, int width, int height, const MapZoom& zoom, const glm::dvec2& deltaPx,
+              const MapZoomLimits& limits) {
+  const MapFrame f = zoomedMap(box, width, height, zoom);
+  const glm::dvec2 c = f.toPlane(0.5 * glm::dvec2(f.width, f.height) - deltaPx);
+  MapZoom z = zoom;
+  z.center = c;
+  return clampZoom(box, width, height, z, limits);
+}
+
 glm::dvec2 HeightGrid::cellSize() const {
   return cols > 0 && rows > 0 ? box.size() / glm::dvec2(cols, rows) : glm::dvec2(1.0);
 }

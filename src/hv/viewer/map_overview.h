@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -42,6 +43,33 @@ struct MapFrame {
   glm::dvec2 toPlane(const glm::dvec2& pixel) const;
 };
 MapFrame fitMap(const PlaneBox& box, int width, int height);
+
+// The map zoomed and panned: `zoom` times fitMap's scale (1: the whole extent), `center` the plane
+// point at the map's centre. Kept in plane units, so a resized map keeps showing the same place.
+struct MapZoom {
+  double zoom = 1.0;
+  std::optional<glm::dvec2> center;  // none: the box's centre
+  bool whole() const { return zoom == 1.0 && !center; }
+};
+// The frame of `zoom` over `box` in a width x height map: pixelsPerUnit = zoom * fitMap's, the
+// centre's plane point at pixel (width / 2, height / 2).
+MapFrame zoomedMap(const PlaneBox& box, int width, int height, const MapZoom& zoom);
+// The limits a zoom is kept within: zoom in [1, maxZoom]; along each axis the centre such that the
+// map shows no more than the box where the box is wider than the map (the view stays on it), else
+// the box's centre (the fitted, centred layout).
+struct MapZoomLimits {
+  double maxZoom = 64.0;
+};
+MapZoom clampZoom(const PlaneBox& box, int width, int height, MapZoom zoom, const MapZoomLimits& limits = {});
+// Zooming by `factor` about map pixel `pixel`: the plane point under it stays under it (unless
+// the limits move it: at zoom 1 the map is the fitted one).
+MapZoom zoomAbout(const PlaneBox& box, int width, int height, const MapZoom& zoom, const glm::dvec2& pixel,
+                  double factor, const MapZoomLimits& limits = {});
+// Panning by `deltaPx` map pixels (a drag): the plane point under the pointer follows it.
+MapZoom panBy(const PlaneBox& box, int width, int height, const MapZoom& zoom, const glm::dvec2& deltaPx,
+              const MapZoomLimits& limits = {});
+// The mouse wheel's zoom: a factor of 2^(1/4) a notch (four notches double the scale).
+inline double wheelZoomFactor(double notches) { return std::exp2(0.25 * notches); }
 
 // A height field over a plane box: `cols` x `rows` cells, cell (i, j)'s centre at
 // lo + ((i + 0.5) * cell.x, (rows - j - 0.5) * cell.y) (row 0 the northern edge, as an image);

@@ -169,6 +169,85 @@ TEST(MapOverview, ClickPicksADotElseTheGround) {
   EXPECT_NEAR(v.direction.x, 1.0, 1e-12);
 }
 
+// Zoom and pan (MapZoom) on the box (0, 0)-(100, 50) in a 200 x 200 map: fitted, 2 pixels a unit,
+// offset (0, 50); the values below worked by hand from toPixel = offset + ppu (e - 0, 50 - n).
+TEST(MapOverview, ZoomOneIsTheFittedMap) {
+  const PlaneBox box{{0, 0}, {100, 50}};
+  const MapFrame z = zoomedMap(box, 200, 200, MapZoom{}), f = fitMap(box, 200, 200);
+  EXPECT_DOUBLE_EQ(z.pixelsPerUnit, f.pixelsPerUnit);
+  EXPECT_NEAR(z.offset.x, 0.0, 1e-12);
+  EXPECT_NEAR(z.offset.y, 50.0, 1e-12);
+}
+
+TEST(MapOverview, ZoomAboutAPixelKeepsItsPlanePointThere) {
+  const PlaneBox box{{0, 0}, {100, 50}};
+  // Pixel (50, 100) is plane (25, 25). Twice the scale (4 px a unit) with it fixed: centre
+  // (25 + 50 / 4, 25) = (37.5, 25); offset (100, 100) - 4 (37.5, 25) = (-50, 0).
+  const MapZoom z = zoomAbout(box, 200, 200, MapZoom{}, {50, 100}, 2.0);
+  EXPECT_DOUBLE_EQ(z.zoom, 2.0);
+  ASSERT_TRUE(z.center);
+  EXPECT_NEAR(z.center->x, 37.5, 1e-12);
+  EXPECT_NEAR(z.center->y, 25.0, 1e-12);
+  const MapFrame f = zoomedMap(box, 200, 200, z);
+  EXPECT_DOUBLE_EQ(f.pixelsPerUnit, 4.0);
+  EXPECT_NEAR(f.offset.x, -50.0, 1e-12);
+  EXPECT_NEAR(f.offset.y, 0.0, 1e-12);
+  const glm::dvec2 still = f.toPixel({25, 25});
+  EXPECT_NEAR(still.x, 50.0, 1e-12);
+  EXPECT_NEAR(still.y, 100.0, 1e-12);
+  // Four wheel notches are a factor 2.
+  EXPECT_NEAR(wheelZoomFactor(4.0), 2.0, 1e-15);
+  EXPECT_NEAR(wheelZoomFactor(-1.0), 1.0 / std::pow(2.0, 0.25), 1e-15);
+}
+
+TEST(MapOverview, PanFollowsTheDragWithinTheBox) {
+  const PlaneBox box{{0, 0}, {100, 50}};
+  const MapZoom z2 = zoomAbout(box, 200, 200, MapZoom{}, {50, 100}, 2.0);  // centre (37.5, 25)
+  // 20 pixels right at 4 px a unit: the centre 5 units west, (32.5, 25).
+  MapZoom p = panBy(box, 200, 200, z2, {20, 0});
+  EXPECT_NEAR(p.center->x, 32.5, 1e-12);
+  EXPECT_NEAR(p.center->y, 25.0, 1e-12);
+  // 100 pixels right would put the centre at 12.5: the map (50 units wide) would show 12.5 units
+  // west of the box; clamped to 25, the box's west edge at the map's left edge.
+  p = panBy(box, 200, 200, z2, {100, 0});
+  EXPECT_NEAR(p.center->x, 25.0, 1e-12);
+  EXPECT_NEAR(zoomedMap(box, 200, 200, p).toPixel({0, 0}).x, 0.0, 1e-12);
+  // North-south: 50 units of box in 50 units of map: no room, the centre stays at n = 25.
+  p = panBy(box, 200, 200, z2, {0, 30});
+  EXPECT_NEAR(p.center->y, 25.0, 1e-12);
+  // At zoom 1 a drag does nothing: the fitted map.
+  EXPECT_TRUE(panBy(box, 200, 200, MapZoom{}, {40, -30}).whole());
+}
+
+TEST(MapOverview, ZoomIsClampedAndZoomingOutReturnsToTheWholeMap) {
+  const PlaneBox box{{0, 0}, {100, 50}};
+  const MapZoom in = zoomAbout(box, 200, 200, MapZoom{}, {50, 100}, 1000.0);
+  EXPECT_DOUBLE_EQ(in.zoom, MapZoomLimits{}.maxZoom);
+  EXPECT_DOUBLE_EQ(zoomAbout(box, 200, 200, in, {50, 100}, 1000.0, MapZoomLimits{8.0}).zoom, 8.0);
+  const MapZoom out = zoomAbout(box, 200, 200, in, {10, 10}, 1e-6);
+  EXPECT_DOUBLE_EQ(out.zoom, 1.0);
+  EXPECT_TRUE(out.whole());
+  // Nonsense factors change nothing.
+  EXPECT_DOUBLE_EQ(zoomAbout(box, 200, 200, in, {10, 10}, std::nan("")).zoom, in.zoom);
+  EXPECT_DOUBLE_EQ(zoomAbout(box, 200, 200, in, {10, 10}, -2.0).zoom, in.zoom);
+}
+
+TEST(MapOverview, ClickOnAZoomedMap) {
+  const Scene scene = testScene();
+  const MapOverview m = mapOverview(scene, {}, 64);  // extent (-5, -5)-(105, 105): 2 px a unit in 220
+  // Zoom 2 about photograph 1's dot at pixel (190, 30) (plane (90, 90)): centre
+  // (90 - 80 / 4, 90 - 80 / 4) = (70, 70), within the limits [22.5, 77.5]; the dot stays.
+  const MapZoom z = zoomAbout(m.extent, 220, 220, MapZoom{}, {190, 30}, 2.0);
+  EXPECT_NEAR(z.center->x, 70.0, 1e-9);
+  const MapFrame f = zoomedMap(m.extent, 220, 220, z);
+  EXPECT_EQ(clickMap(m, f, {195.0, 30.0}, 6.0).photo, 1);
+  // 10 pixels east is now 2.5 units east (4 px a unit), not 5.
+  const MapClick c = clickMap(m, f, {200.0, 30.0}, 6.0);
+  EXPECT_EQ(c.photo, -1);
+  EXPECT_NEAR(c.ground.x, 92.5, 1e-9);
+  EXPECT_NEAR(c.ground.y, 90.0, 1e-9);
+}
+
 TEST(MapOverview, AnotherUpUsesThePlaneOrthogonalToIt) {
   // up = -z (an SfM frame): the plane is spanned by upFrame(-z)'s east and north.
   Scene s = testScene();

@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <iostream>
 
@@ -15,16 +16,34 @@ MapPanel::Result MapPanel::draw(const Camera& view, int chosen) {
   if (!open_) return result;
   ImGui::SetNextWindowPos(ImVec2(380, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(340, 360), ImGuiCond_FirstUseEver);
-  if (!ImGui::Begin("Map", &open_)) {
+  if (!ImGui::Begin("Map", &open_, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse)) {
     ImGui::End();
     return result;
   }
+  if (ImGui::SmallButton("Whole map")) zoom_ = MapZoom{};
+  ImGui::SameLine();
+  ImGui::TextDisabled("x%.1f  wheel: zoom, drag: pan", zoom_.zoom);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float w = std::max(64.0f, avail.x), h = std::max(64.0f, avail.y);
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
-  ImGui::InvisibleButton("##map", ImVec2(w, h));
-  const bool clicked = ImGui::IsItemClicked(ImGuiMouseButton_Left);
-  const MapFrame frame = fitMap(map_.extent, int(w), int(h));
+  const bool released = ImGui::InvisibleButton("##map", ImVec2(w, h));  // pressed, then released over it
+  // A drag pans, the wheel zooms about the pointer, a release that did not drag is a click. The pan
+  // is the whole drag (from the press, through the release frame) applied to the zoom at the
+  // press: slow frames that see several moves, or the release, at once lose none of it.
+  const ImGuiIO& io = ImGui::GetIO();
+  const glm::dvec2 mouse(io.MousePos.x - p0.x, io.MousePos.y - p0.y);
+  if (ImGui::IsItemActivated()) panFrom_ = zoom_;
+  if (ImGui::IsItemActive() || ImGui::IsItemDeactivated()) {
+    const ImVec2 drag = ImGui::GetMouseDragDelta(ImGuiMouseButton_Left, 0.0f);
+    zoom_ = panBy(map_.extent, int(w), int(h), panFrom_, {drag.x, drag.y});
+  }
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenBlockedByActiveItem) && io.MouseWheel != 0.0f) {
+    zoom_ = zoomAbout(map_.extent, int(w), int(h), zoom_, mouse, wheelZoomFactor(io.MouseWheel));
+    panFrom_ = zoom_;  // a drag goes on from here
+    ImGui::ResetMouseDragDelta(ImGuiMouseButton_Left);
+  }
+  const bool clicked = released && io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left] < 9.0f;
+  const MapFrame frame = zoomedMap(map_.extent, int(w), int(h), zoom_);
   auto at = [&](const glm::dvec2& plane) {
     const glm::dvec2 px = frame.toPixel(plane);
     return ImVec2(p0.x + float(px.x), p0.y + float(px.y));
@@ -76,15 +95,15 @@ MapPanel::Result MapPanel::draw(const Camera& view, int chosen) {
   };
   dl->AddTriangleFilled(off(11, 0), off(-5, 6), off(-5, -6), IM_COL32(230, 40, 40, 255));
   dl->PopClipRect();
-  if (printDots_ && glm::vec4(p0.x, p0.y, w, h) != printedAt_) {
-    printedAt_ = glm::vec4(p0.x, p0.y, w, h);
+  const std::array<double, 7> shown{p0.x, p0.y, w, h, frame.pixelsPerUnit, frame.offset.x, frame.offset.y};
+  if (printDots_ && shown != printedAt_) {
+    printedAt_ = shown;
     for (const MapDot& d : map_.dots)
       std::cout << "viewer: map: photograph " << d.photo << " at " << at(d.at).x << " " << at(d.at).y << "\n";
     std::cout << std::flush;
   }
   if (clicked) {
-    const ImVec2 m = ImGui::GetIO().MousePos;
-    const MapClick click = clickMap(map_, frame, {m.x - p0.x, m.y - p0.y}, 6.0);
+    const MapClick click = clickMap(map_, frame, mouse, 6.0);
     if (click.photo >= 0)
       result.photo = click.photo;
     else

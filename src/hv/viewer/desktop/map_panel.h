@@ -1,14 +1,16 @@
 // The viewer's map (docs/viewer.md, key M): a window with the 2D overview of the scene
 // (hv/viewer/map_overview.h) — the terrain's hillshade, the buildings' footprints, every
 // photograph as a dot with its viewing direction (dated ones orange, undated ones blue-grey), the
-// view's position and heading in red — drawn with Dear ImGui's draw list. A click on a dot picks
-// that photograph, elsewhere the ground there; the viewer flies to it.
+// view's position and heading in red — drawn with Dear ImGui's draw list. The wheel zooms about
+// the pointer, a drag pans, "Whole map" goes back to the whole extent (MapZoom). A click (a release
+// without a drag) on a dot picks that photograph, elsewhere the ground there; the viewer flies to it.
 #pragma once
 
 #include "hv/gpu/present.h"
 #include "hv/scene/scene.h"
 #include "hv/viewer/map_overview.h"
 
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -22,7 +24,7 @@ class MapPanel {
   bool open() const { return open_; }
   void toggle() { open_ = !open_; }
   // For scripts and tests: print where each photograph's dot is in the window ("viewer: map:
-  // photograph INDEX at X Y", window pixels) whenever the map moves or is resized.
+  // photograph INDEX at X Y", window pixels) whenever the map moves, is resized, zoomed or panned.
   void printDots(bool on) { printDots_ = on; }
   const MapOverview& overview() const { return map_; }
 
@@ -39,7 +41,9 @@ class MapPanel {
   bool uploaded_ = false;
   bool open_ = false;
   bool printDots_ = false;
-  glm::vec4 printedAt_{-1.0f};  // the map's rectangle when its dots were last printed
+  MapZoom zoom_;
+  MapZoom panFrom_;                    // the zoom when the drag began
+  std::array<double, 7> printedAt_{};  // the map's rectangle and scale when its dots were last printed
 };
 
 }  // namespace hv::viewer
