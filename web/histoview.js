@@ -285,8 +285,10 @@
     hv.thenNow = (on) => thenNowUi.set(on);
     hv.move = (right, forward, up, lookX, lookY, dt) => viewer.move(right, forward, up, lookX, lookY, false, dt);
     hv.focus = (i) => viewer.focusPhoto(i);
-    hv.map = () => ({ ...mapUi.data, view: JSON.parse(viewer.mapView($('map').width, $('map').height)) });
+    hv.map = () => ({ ...mapUi.data, view: JSON.parse(viewer.mapView($('map').width, $('map').height)),
+                      zoom: mapUi.zoom ? mapUi.zoom() : null });
     hv.mapClick = (x, y) => mapUi.click(x, y);
+    hv.mapWhole = () => mapUi.whole();
     // Median time of n frames rendered back to back at the current view (waiting for the GPU).
     hv.measure = (n) => {
       const t = [];
@@ -306,10 +308,18 @@
   // section per group; each change goes through viewer.setSetting, as the command line's options
   // do. A control's id is the setting's name.
   const OPEN_GROUPS = ['Blending', 'Geometry', 'Points', 'Debug'];
+  // The points' controls most asked for first in their group (the schema's order otherwise).
+  const FIRST = ['points', 'point-budget', 'point-radius', 'point-color'];
+  const rank = (s) => { const i = FIRST.indexOf(s.name); return i < 0 ? FIRST.length : i; };
   function buildSettings(viewer, pointCount) {
     const box = $('settings');
     const sections = new Map();
-    for (const s of JSON.parse(viewer.settingsSchema())) {
+    const schema = JSON.parse(viewer.settingsSchema());
+    const groupAt = (s) => schema.findIndex((t) => t.group === s.group);
+    const key = (s, i) => [groupAt(s), s.group === 'Points' ? rank(s) : 0, i];
+    const sorted = schema.map((s, i) => [key(s, i), s])
+      .sort(([a], [b]) => a[0] - b[0] || a[1] - b[1] || a[2] - b[2]).map(([, s]) => s);
+    for (const s of sorted) {
       if (s.group === 'Points' && !viewer.hasPoints()) continue;
       let section = sections.get(s.group);
       if (!section) {

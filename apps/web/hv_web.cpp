@@ -83,9 +83,9 @@ class WebViewer {
       scene_ = std::make_unique<Scene>(readWebScene(manifest, options, diag));
       sceneMs_ = msSince(t0);  // the points' chunk organisation (hv::organizeChunks) included
       arrivedPhoto_.assign(scene_->photos.size(), false);
-      // The points as `render --points` draws them (its defaults): on when the scene has some,
-      // unless the page said otherwise (points=0).
-      if (!pointsSet_) settings_.points.enabled = !scene_->points.empty();
+      // The points as `render --points` draws them (its defaults): on when the scene has some and
+      // they fit in one frame's point budget (2 M by default), unless the page said otherwise.
+      if (!pointsSet_) settings_.points.enabled = pointsOnAtStart(settings_.points.budget);
       renderer_ = std::make_unique<render::Renderer>(*scene_, rendererSettings(), diag_);
       presenter_ = std::make_unique<gpu::Presenter>();
       nav_ = std::make_unique<Navigator>(scene_->up, nullptr);
@@ -221,6 +221,9 @@ class WebViewer {
 
   void setStepBack(double d) { focus_.stepBack = d; }
   bool hasPoints() const { return scene_ && !scene_->points.empty(); }
+  // A large cloud (more points than `budget`, a frame's: the page would draw a subset and each
+  // frame would cost the whole budget) starts hidden; the Points group switches it on.
+  bool pointsOnAtStart(std::uint64_t budget) const { return hasPoints() && scene_->points.size() <= budget; }
 
   // Any render setting by its name and text, as on the command line (render/settings_schema.h:
   // "k" "4", "point-filter" "epsilon", "terrain" "false"); one read when the renderer is made
@@ -424,7 +427,7 @@ class WebViewer {
     ViewState state;
     if (nav_) state.pose = poseOf(nav_->camera());
     render::RenderSettings defaults = webDefaults();
-    defaults.points.enabled = hasPoints();
+    defaults.points.enabled = pointsOnAtStart(settings_.points.budget);
     for (const render::Setting& st : render::settingsSchema()) {
       const std::string now = render::toText(settings_, st.name);
       if (now != render::toText(defaults, st.name)) state.params.emplace_back(st.name, now);
@@ -498,12 +501,30 @@ class WebViewer {
     out["undated"] = dates_.undated;
     return out.dump();
   }
+  // The map zoomed and panned (MapZoom, as the desktop viewer's map): the wheel by `factor` about
+  // canvas pixel (x, y), a drag by (dx, dy) canvas pixels, back to the whole map. Each returns the
+  // canvas pixels of the zoomed map from mapData's (those of the whole map): {"zoom", "tx", "ty"},
+  // zoomed = zoom * whole + (tx, ty). mapView and mapClick are in the zoomed map's pixels.
+  std::string mapZoomAt(double x, double y, double factor, int width, int height) {
+    if (!scene_) return "{}";
+    mapZoom_ = zoomAbout(mapOverview_().extent, width, height, mapZoom_, {x, y}, factor);
+    return mapTransform_(width, height);
+  }
+  std::string mapPan(double dx, double dy, int width, int height) {
+    if (!scene_) return "{}";
+    mapZoom_ = panBy(mapOverview_().extent, width, height, mapZoom_, {dx, dy});
+    return mapTransform_(width, height);
+  }
+  std::string mapWhole(int width, int height) {
+    mapZoom_ = MapZoom{};
+    return scene_ ? mapTransform_(width, height) : "{}";
+  }
   // The view on that map: {"x", "y" (canvas pixels), "dx", "dy" (its heading, unit; 0 looking
   // straight down)}.
   std::string mapView(int width, int height) {
     if (!nav_) return "{}";
     const MapOverview& m = mapOverview_();
-    const MapFrame f = fitMap(m.extent, width, height);
+    const MapFrame f = zoomedMap(m.extent, width, height, mapZoom_);
     const MapView v = viewer::mapView(m, nav_->camera());
     const glm::dvec2 q = f.toPixel(v.at), dir = pixelDirection(v.direction);
     return json{{"x", q.x}, {"y", q.y}, {"dx", dir.x}, {"dy", dir.y}}.dump();
@@ -514,7 +535,7 @@ class WebViewer {
   std::string mapClick(double x, double y, int width, int height) {
     if (!nav_) return "{}";
     const MapOverview& m = mapOverview_();
-    const MapClick click = clickMap(m, fitMap(m.extent, width, height), {x, y}, 6.0);
+    const MapClick click = clickMap(m, zoomedMap(m.extent, width, height, mapZoom_), {x, y}, 6.0);
     if (click.photo >= 0) {
       focusPhoto(click.photo);
       return json{{"photo", click.photo}}.dump();
@@ -696,6 +717,14 @@ class WebViewer {
     return *map_;
   }
 
+  std::string mapTransform_(int width, int height) {
+    const PlaneBox& box = mapOverview_().extent;
+    const MapFrame whole = fitMap(box, width, height), zoomed = zoomedMap(box, width, height, mapZoom_);
+    // zoomed.offset + ppu q = zoom (whole.offset + ppu0 q) + t, ppu = zoom ppu0.
+    const glm::dvec2 t = zoomed.offset - mapZoom_.zoom * whole.offset;
+    return json{{"zoom", mapZoom_.zoom}, {"tx", t.x}, {"ty", t.y}}.dump();
+  }
+
   // The time window into the settings and the renderer's (live: BlendSettings::window).
   void setWindow(const std::optional<DateInterval>& window) {
     settings_.blend.window = window;
@@ -825,6 +854,7 @@ class WebViewer {
   TrafficClock clock_;
   TrafficPlaySettings trafficPlay_;
   std::unique_ptr<MapOverview> map_;
+  MapZoom mapZoom_;
   std::chrono::steady_clock::time_point lastTick_ = std::chrono::steady_clock::now();
 };
 
@@ -895,7 +925,10 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("poseLookFromSolved", &WebViewer::poseLookFromSolved)
       .function("poseSave", &WebViewer::poseSave)
       .function("poseLeave", &WebViewer::poseLeave)
-      .function("poseOn", &WebViewer::poseOn);
+      .function("poseOn", &WebViewer::poseOn)
+      .function("mapZoomAt", &WebViewer::mapZoomAt)
+      .function("mapPan", &WebViewer::mapPan)
+      .function("mapWhole", &WebViewer::mapWhole);
 }
 
 }  // namespace hv::web

@@ -14,6 +14,8 @@
 // photographs' dots where their cameras are (north up, one scale), drawn on the map's canvas; a
 // click on a dot goes to that photograph, one elsewhere to the ground there. The photograph
 // tests/web_test.sh left undated is listed apart under the timeline, and dated only leaves it out.
+// The thumbnails in the list; the Points group (the budget bounds the points drawn); the map's
+// wheel zoom, drag and whole map.
 // Pose mode: six pairs clicked on the photograph and on the view pose photograph 0 at its known
 // camera (within 0.5 m and 0.5°), a misplaced point dragged into place; look from it, save.
 // Writes web-points.png and web.png (the canvas) into OUTDIR; HV_WEB_SCREENSHOT=FILE also saves the
@@ -495,6 +497,9 @@ try {
         saved.suggestedFilename().endsWith('.cameras.json'), 'save downloads the solved camera as a cameras.json');
   await page.click('#pose-start');  // leave: saved, so the solved camera stays
   check(!(await page.evaluate(() => hv.poseState().on)) && await page.locator('#pose-side').isHidden(), 'leaving pose mode hides the photograph');
+  await thumbnailsStep(page, check);
+  await pointControlsStep(page, check, setControl);
+  await mapZoomPanStep(page, check);
   check(pageErrors.length === 0, 'no page errors after the timeline, screenshot, traffic and link' +
         (pageErrors.length ? ': ' + pageErrors.join(' | ') : ''));
 } catch (e) {
@@ -504,3 +509,98 @@ try {
 }
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);
+
+// The page's point controls (docs/web.md, "Points"): the Points group is open with the switch, the
+// budget, the radius and the colour first; the budget bounds the points a frame draws (the frame's
+// pointsDrawn: every visible point under the default budget, at most 1000 under a 1000 budget).
+async function pointControlsStep(page, check, setControl) {
+  const group = await page.evaluate(() => {
+    const d = [...document.querySelectorAll('#settings details')].find((e) => e.querySelector('summary').textContent.startsWith('Points'));
+    return d ? { open: d.open, first: [...d.querySelectorAll('input, select')].slice(0, 4).map((e) => e.id) } : { open: false, first: [] };
+  });
+  check(group.open && group.first.join(',') === 'points,point-budget,point-radius,point-color',
+        `the Points group is open, its first controls ${group.first.join(', ')}`);
+  const drawnAfterChange = async () => {
+    await page.waitForFunction(() => hv.status && hv.status.frames > window.framesAtChange && hv.status.converged &&
+                               !hv.status.focusing, null, { timeout: 60000, polling: 250 });
+    return page.evaluate(() => hv.status.pointsDrawn);
+  };
+  const budget = await page.evaluate(() => document.getElementById('point-budget').value);
+  await setControl('points', true);
+  const all = await drawnAfterChange();
+  await setControl('point-budget', '1000');
+  const few = await drawnAfterChange();
+  await setControl('point-budget', budget);
+  const again = await drawnAfterChange();
+  console.log(`points drawn: ${all} (budget ${budget}), ${few} (budget 1000), ${again} (budget ${budget} again)`);
+  check(all > 1000 && few > 0 && few <= 1000 && again === all, 'the point budget bounds the points a frame draws');
+}
+
+// The map's zoom and pan (web/map.js; hv/viewer/map_overview.h's MapZoom): four wheel notches
+// (deltaY -400) on a dot double the scale about it, a drag moves the map with the pointer and goes
+// nowhere, a click on the dot where it is now goes to that photograph, "whole map" shows it all.
+async function mapZoomPanStep(page, check) {
+  await page.evaluate(() => hv.mapWhole());
+  const m = await page.evaluate(() => hv.map());
+  const W = await page.evaluate(() => document.getElementById('map').width);
+  await page.locator('#map').scrollIntoViewIfNeeded();
+  const box = await page.locator('#map').boundingBox(), scale = box.width / W;
+  // The dot farthest from the others, then a page pixel (integer) on it.
+  const gap = (d) => Math.min(...m.dots.filter((e) => e !== d).map((e) => Math.hypot(d.x - e.x, d.y - e.y)));
+  const dot = m.dots.reduce((a, b) => (gap(b) > gap(a) ? b : a));
+  const px = Math.round(box.x + dot.x * scale), py = Math.round(box.y + dot.y * scale);
+  const under = [(px - box.x) / scale, (py - box.y) / scale];  // canvas pixel under the pointer
+  await page.mouse.move(px, py);
+  await page.mouse.wheel(0, -400);
+  await page.waitForFunction(() => hv.map().zoom.zoom !== 1, null, { timeout: 10000, polling: 100 });
+  const z = (await page.evaluate(() => hv.map())).zoom;
+  const at = (zz, d) => [zz.zoom * d.x + zz.tx, zz.zoom * d.y + zz.ty];
+  // The point under the pointer stays there along the side the whole map fills; along the other
+  // the map is kept on its extent (MapZoom's limits) and may shift.
+  const moved = at(z, { x: under[0], y: under[1] }).map((v, k) => v - under[k]);
+  console.log(`map wheel: zoom ${z.zoom.toFixed(4)}, the point under the pointer moved ${moved.map((v) => v.toFixed(3)).join(', ')} px`);
+  check(Math.abs(z.zoom - 2) < 1e-9 && Math.min(...moved.map(Math.abs)) < 0.1, 'the wheel zooms the map about the pointer');
+  // The drag: 30 and 20 page pixels away from the map's centre (the side the map can pan to).
+  const [dx, dy] = [dot.x >= W / 2 ? 30 : -30, dot.y >= W / 2 ? 20 : -20];
+  const poseBefore = await page.evaluate(() => hv.pose());
+  await page.mouse.down();
+  await page.mouse.move(px + dx, py + dy, { steps: 10 });
+  await page.mouse.up();
+  const zd = (await page.evaluate(() => hv.map())).zoom;
+  const shift = [zd.tx - z.tx, zd.ty - z.ty], drag = [dx / scale, dy / scale];
+  console.log(`map drag of ${drag.map((v) => v.toFixed(1)).join(', ')} canvas px: the map moved ${shift.map((v) => v.toFixed(1)).join(', ')}`);
+  check(zd.zoom === z.zoom && Math.hypot(...shift) > 5 &&
+        shift.every((s, k) => s * drag[k] >= 0 && Math.abs(s) <= Math.abs(drag[k]) + 0.5) &&
+        await page.evaluate(() => hv.pose()) === poseBefore, 'a drag pans the map and goes nowhere');
+  // A click on the dot where it is now.
+  const [cx, cy] = at(zd, dot);
+  await page.mouse.click(box.x + cx * scale, box.y + cy * scale);
+  const chosen = await page.evaluate(() => hv.viewer.focused());
+  check(chosen === dot.photo, `a click on the zoomed map goes to the photograph there (${dot.id})`);
+  await page.click('#map-box button');
+  const whole = (await page.evaluate(() => hv.map())).zoom;
+  check(whole.zoom === 1 && whole.tx === 0 && whole.ty === 0, '"whole map" shows the whole map again');
+}
+
+// The photographs' thumbnails (web/histoview.js, addThumbnail): every photograph in the list has
+// one, 96 pixels wide, of its photograph's aspect ratio (cameras.json's width and height), and not
+// blank (its grey levels spread over more than 16 levels).
+async function thumbnailsStep(page, check) {
+  const t = await page.evaluate(async () => {
+    const cams = (await (await fetch('cameras.json')).json()).cameras;
+    const items = [...document.querySelectorAll('#photos li')];
+    const ok = items.map((li) => {
+      const c = li.querySelector('canvas');
+      if (!c || c.width !== 96) return false;
+      const cam = cams[+li.dataset.index];
+      if (cam && Math.abs(c.height - Math.round(96 * cam.height / cam.width)) > 1) return false;
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let lo = 255, hi = 0;
+      for (let k = 0; k < d.length; k += 4) { const g = (d[k] + d[k + 1] + d[k + 2]) / 3; lo = Math.min(lo, g); hi = Math.max(hi, g); }
+      return hi - lo > 16;
+    });
+    return { items: items.length, ok: ok.filter(Boolean).length };
+  });
+  console.log(`thumbnails: ${t.ok} of ${t.items} photographs`);
+  check(t.items > 0 && t.ok === t.items, 'every photograph in the list has its thumbnail');
+}
