@@ -11,6 +11,8 @@
 //     after geometry culling), peak RSS;
 // and prints the large/small ratios, measured in the same run.
 // Usage: city_bench [--dir DIR] [--blocks SMALL,LARGE]
+//        city_bench --first CITY [MINPX]  (one city already generated: start to first frame by
+//                   stage, then the building tiles each view draws; MINPX: --building-min-pixels)
 //   --dir DIR: generate the cities into DIR/blocks<N>/ and keep them; a city already there is
 //              reused (its generation is then not measured). Default: a temporary directory.
 //   --blocks:  the two sizes (default 185,18519: 1,003 and 99,711 buildings).
@@ -125,7 +127,7 @@ int childMeasure(const std::string& dir) {
   result("scene_triangles", sceneTriangles);
 
   std::vector<double> frameWall, frameCpu, firstMs, convergeMs, frames;
-  double drawnTriangles = 0.0, drawnTiles = 0.0;
+  double drawnTriangles = 0.0, drawnTiles = 0.0, buildingTiles = 0.0;
   for (int v = 0; v < kViews; ++v) {
     const hv::Camera view = crop720p(views[size_t(v)].camera);
     const auto moved = Clock::now();
@@ -148,6 +150,7 @@ int childMeasure(const std::string& dir) {
     const double tri = double(renderer->stats().trianglesDrawn), tiles = double(renderer->stats().tilesDrawn);
     drawnTriangles += tri / kViews;
     drawnTiles += tiles / kViews;
+    buildingTiles += double(renderer->stats().buildingViewTiles) / kViews;
     std::printf(
         "    view %-10s first frame %8.0f ms, converged after %3d frames %8.0f ms, steady %8.1f ms (cpu %.1f)\n",
         view.id.c_str(), first, n, converged, m.wall, m.cpu);
@@ -164,8 +167,50 @@ int childMeasure(const std::string& dir) {
   result("frame_cpu_ms", median(frameCpu));
   result("triangles_drawn", drawnTriangles);
   result("tiles_drawn", drawnTiles);
+  result("building_tiles_drawn", buildingTiles);
   result("peak_hwm_mib", hwmMiB());
   return diag.ok() ? 0 : 1;
+}
+
+// --- Start to first frame alone (--first CITY) --------------------------------------------------
+// What a viewer opening the city waits for, stage by stage (wall and process CPU): loadScene,
+// the EGL context, the Renderer's construction, and the first progressive frame of view v001 at
+// 1280x720 (the first frame the viewer shows). For profiling and before/after comparisons of the
+// start; the full benchmark above gives the rest.
+int childFirst(const std::string& dir, double minPixels) {
+  const auto start = Clock::now();
+  hv::Diagnostics diag;
+  hv::Scene scene;
+  const Timing load = measure([&] { scene = hv::loadScene((fs::path(dir) / "scene.json").string(), diag); });
+  hv::CameraFileOptions vo;
+  vo.requireImages = false;
+  vo.checkImageFiles = false;
+  const auto views = hv::readCameraFile((fs::path(dir) / "views.json").string(), vo, diag);
+  if (views.empty()) throw std::runtime_error(dir + ": no held-out view");
+  std::unique_ptr<hv::gpu::Context> context;
+  const Timing ctx = measure([&] { context = hv::gpu::createHeadlessContext(); });
+  std::unique_ptr<hv::render::Renderer> renderer;
+  hv::render::RenderSettings settings;
+  if (minPixels >= 0.0) settings.buildingMinPixels = minPixels;
+  const Timing setup = measure([&] { renderer = std::make_unique<hv::render::Renderer>(scene, settings, diag); });
+  const hv::Camera view = crop720p(views[0].camera);
+  const Timing first = measure([&] { renderer->render(view, false, hv::render::FrameMode::Progressive); });
+  const double total = msSince(start);
+  const auto& st = renderer->stats();
+  std::printf(
+      "%s: load %.0f ms (cpu %.0f), context %.0f (cpu %.0f), renderer %.0f (cpu %.0f), first frame %.0f "
+      "(cpu %.0f): start to first frame %.0f ms; view tiles drawn %d, triangles %zu; load average %s\n",
+      dir.c_str(), load.wall, load.cpu, ctx.wall, ctx.cpu, setup.wall, setup.cpu, first.wall, first.cpu, total,
+      int(st.tilesDrawn), std::size_t(st.trianglesDrawn), loadAverage().c_str());
+  // The building tiles the views draw once converged (--building-min-pixels at `minPixels`).
+  for (int v = 0; v < std::min(kViews, int(views.size())); ++v) {
+    const hv::Camera c = crop720p(views[size_t(v)].camera);
+    renderer->render(c);
+    std::printf("    view %s: %d building tiles drawn, %lld triangles drawn, %d building tiles resident\n",
+                c.id.c_str(), renderer->stats().buildingViewTiles, (long long)renderer->stats().trianglesDrawn,
+                renderer->stats().buildingTilesResident);
+  }
+  return 0;
 }
 
 // --- Parent -----------------------------------------------------------------------------------
@@ -290,6 +335,7 @@ int runParent(const fs::path& dir, int smallBlocks, int largeBlocks) {
   row("scene triangles", "scene_triangles", 1.0, "%.0f");
   row("triangles drawn per frame", "triangles_drawn", 1.0, "%.0f");
   row("tiles drawn per frame", "tiles_drawn", 1.0, "%.0f");
+  row("  of which building tiles (streamed)", "building_tiles_drawn", 1.0, "%.0f");
   row("peak RSS (MiB)", "peak_hwm_mib", 1.0, "%.0f");
   rule();
   std::printf("  load average %s (end), %.0f s in all\n", loadAverage().c_str(), msSince(t0) / 1e3);
@@ -303,6 +349,8 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 1, argv + argc);
     if (args.size() == 3 && args[0] == "--generate") return childGenerate(args[1], std::stoi(args[2]));
     if (args.size() == 2 && args[0] == "--measure") return childMeasure(args[1]);
+    if ((args.size() == 2 || args.size() == 3) && args[0] == "--first")
+      return childFirst(args[1], args.size() == 3 ? std::stod(args[2]) : -1.0);
     WorkDir work;
     int smallBlocks = kDefaultSmallBlocks, largeBlocks = kDefaultLargeBlocks;
     for (size_t i = 0; i < args.size(); ++i) {

@@ -10,6 +10,20 @@
 
 namespace hv::render {
 
+glm::dvec2 boxPixelExtent(const Camera& camera, const glm::dvec3& lo, const glm::dvec3& hi) {
+  const glm::dmat3 pixFromWorld = camera.pixFromWorld();
+  glm::dvec2 pmin(std::numeric_limits<double>::infinity()), pmax(-std::numeric_limits<double>::infinity());
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    const glm::dvec3 p = pixFromWorld * (corner - camera.center);
+    if (!(p.z > 0.0)) return glm::dvec2(std::numeric_limits<double>::infinity());
+    const glm::dvec2 px(p.x / p.z, p.y / p.z);
+    pmin = glm::min(pmin, px);
+    pmax = glm::max(pmax, px);
+  }
+  return pmax - pmin;
+}
+
 BuildingStream::BuildingStream(std::shared_ptr<const BuildingTileSet> set, glm::dvec3 origin, int workerThreads,
                                std::size_t memoryBytes)
     : set_(std::move(set)), origin_(origin), budget_(memoryBytes) {
@@ -39,7 +53,7 @@ void BuildingStream::beginFrame(std::size_t reservedBytes) {
 }
 
 BuildingCut BuildingStream::select(const Camera& camera, const glm::dmat4& clipFromRender, double priority,
-                                   double reach) {
+                                   double reach, double minPixels) {
   BuildingCut cut;
   const glm::dvec3 eye = camera.center - origin_;
   // The tiles the clip volume may see, nearest first: the budget goes to them first. A tile read
@@ -53,6 +67,10 @@ BuildingCut BuildingStream::select(const Camera& camera, const glm::dmat4& clipF
     if (!k.read && renderBoxes_[t].empty()) continue;
     const double distance = glm::length(glm::max(glm::max(lo - eye, eye - hi), glm::dvec3(0.0)));
     if (distance > reach || !boxMayBeVisible(clipFromRender, glm::vec3(lo), glm::vec3(hi))) continue;
+    if (minPixels > 0.0) {
+      const glm::dvec2 extent = boxPixelExtent(camera, lo + origin_, hi + origin_);
+      if (std::min(extent.x, extent.y) < minPixels) continue;
+    }
     seen.push_back({distance, t});
   }
   std::sort(seen.begin(), seen.end());

@@ -65,6 +65,13 @@ struct BuildingCut {
   bool operator==(const BuildingCut& o) const { return tiles == o.tiles; }
 };
 
+// The width and height, in ideal (pinhole, lens distortion aside) pixels of `camera`, of the
+// rectangle holding the pictures of the 8 corners of the world-frame box lo..hi: a bound of the
+// box's picture (a pinhole projects the box, the convex hull of its corners, inside the hull of
+// their pictures). Infinite when a corner is not in front of the camera (depth <= 0: the box
+// reaches the camera's plane and may fill the picture).
+glm::dvec2 boxPixelExtent(const Camera& camera, const glm::dvec3& lo, const glm::dvec3& hi);
+
 class BuildingStream {
  public:
   // Meshes are in the render frame (world minus `origin`). Throws std::invalid_argument for a
@@ -79,10 +86,13 @@ class BuildingStream {
   void beginFrame(std::size_t reservedBytes = 0);
   // The cut for `camera` through `clipFromRender` (its clip volume, render frame), of the tiles
   // whose box comes within `reach` of the camera's centre (infinite: no limit; the scene loader's
-  // rule for photographs is kBuildingReachMetresPerPixel x the focal length in pixels); marks its
-  // tiles used by this frame and requests the ones it lacks at `priority` plus their distance.
+  // rule for photographs is kBuildingReachMetresPerPixel x the focal length in pixels) and, when
+  // `minPixels` > 0, whose box's picture is at least `minPixels` thick (the smaller side of
+  // boxPixelExtent: a thinner tile would be a sliver of at most that many pixels; a tile never
+  // read is judged by the source's box, which is kept); marks its tiles used by this frame and
+  // requests the ones it lacks at `priority` plus their distance.
   BuildingCut select(const Camera& camera, const glm::dmat4& clipFromRender, double priority,
-                     double reach = std::numeric_limits<double>::infinity());
+                     double reach = std::numeric_limits<double>::infinity(), double minPixels = 0.0);
   // Evicts the least recently used tiles this frame did not use until the resident bytes plus
   // `otherResidentBytes` (the terrain's) fit the budget. Returns the evicted tiles.
   std::vector<std::uint32_t> endFrame(std::size_t otherResidentBytes = 0);

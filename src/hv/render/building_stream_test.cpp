@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -275,6 +278,66 @@ TEST(BuildingStream, TwoThreadsGiveWhatNoThreadGives) {
   w.waitAll([&](BuildingTileMesh&&) { ++got; });
   EXPECT_EQ(got, missing);
   EXPECT_EQ(w.pendingTiles(), 0u);
+}
+
+TEST(BuildingStream, BoxPixelExtentIsTheCornersRectangle) {
+  // A camera at the origin looking along +x, 500 px of focal length: a metre at 100 m is 5 px.
+  const Camera c = lookAtCamera("c", {0.0, 0.0, 0.0}, {100.0, 0.0, 0.0}, 640, 480, 500.0);
+  // 20 m wide, 5 m tall, 100 m deep from 100 m on: its near face is the widest and the tallest.
+  const glm::dvec2 e = boxPixelExtent(c, {100.0, -10.0, 0.0}, {200.0, 10.0, 5.0});
+  EXPECT_NEAR(e.x, 100.0, 1e-9);
+  EXPECT_NEAR(e.y, 25.0, 1e-9);
+  // Twice as far, half the size.
+  const glm::dvec2 far = boxPixelExtent(c, {200.0, -10.0, 0.0}, {300.0, 10.0, 5.0});
+  EXPECT_NEAR(far.x, 50.0, 1e-9);
+  EXPECT_NEAR(far.y, 12.5, 1e-9);
+  // A box reaching the camera's plane, or behind it: unbounded.
+  EXPECT_TRUE(std::isinf(boxPixelExtent(c, {-1.0, -1.0, -1.0}, {50.0, 1.0, 1.0}).x));
+  EXPECT_TRUE(std::isinf(boxPixelExtent(c, {-50.0, -1.0, -1.0}, {-10.0, 1.0, 1.0}).y));
+}
+
+TEST(BuildingStream, AMinimumPictureSizeLeavesOutTheThinTiles) {
+  const View v = lowWest();
+  // Each visible tile's thickness in the view, from its buildings' box (as the stream keeps it
+  // once read, in floats of the render frame) through Camera::project.
+  std::vector<std::pair<double, std::uint32_t>> thick;
+  for (std::uint32_t t : visibleTiles(v)) {
+    const Aabb b = tileData(t).mesh.bounds();
+    const glm::dvec3 lo = glm::dvec3(glm::vec3(b.lo - kOrigin)) + kOrigin;
+    const glm::dvec3 hi = glm::dvec3(glm::vec3(b.hi - kOrigin)) + kOrigin;
+    glm::dvec2 pmin(1e300), pmax(-1e300);
+    bool inFront = true;  // else it reaches the camera's plane: kept whatever the threshold
+    for (int k = 0; k < 8; ++k) {
+      const Projection p = v.camera.project({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+      inFront = inFront && p.depth > 0.0;
+      pmin = glm::min(pmin, p.pxIdeal);
+      pmax = glm::max(pmax, p.pxIdeal);
+    }
+    thick.push_back({inFront ? std::min(pmax.x - pmin.x, pmax.y - pmin.y) : 1e300, t});
+  }
+  std::sort(thick.begin(), thick.end());
+  ASSERT_GT(thick.size(), 4u);
+  // A threshold between the thinnest half and the rest.
+  const std::size_t half = thick.size() / 2;
+  ASSERT_LT(thick[half - 1].first + 1e-3, thick[half].first);
+  const double minPixels = 0.5 * (thick[half - 1].first + thick[half].first);
+  std::vector<std::uint32_t> expected;
+  for (std::size_t i = half; i < thick.size(); ++i) expected.push_back(thick[i].second);
+  std::sort(expected.begin(), expected.end());
+
+  BuildingStream s(makeSet(), kOrigin, 0, std::size_t(64) << 20);
+  BuildingCut cut;
+  for (int f = 0; f < 1000; ++f) {
+    s.beginFrame();
+    s.poll();
+    cut = s.select(v.camera, v.clip, 0.0, std::numeric_limits<double>::infinity(), minPixels);
+    s.endFrame();
+    if (cut.missing == 0 && s.pendingTiles() == 0) break;
+  }
+  EXPECT_EQ(cut.tiles, expected);
+  // 0: every tile the view may see, as without the argument.
+  BuildingStream all(makeSet(), kOrigin, 0, std::size_t(64) << 20);
+  EXPECT_EQ(converge(all, v).tiles, visibleTiles(v));
 }
 
 TEST(BuildingStream, ABrokenTileIsReportedOnceAndNotAskedAgain) {

@@ -97,11 +97,11 @@ std::vector<std::uint64_t> FrameBuilder::visibleTerrain(const std::vector<Terrai
   return out;
 }
 
-
 // The streamed buildings (render/building_stream.h, docs/design.md "Building streaming"), as the
 // terrain above: collects the tiles read since the last frame (uploading them and their
 // buildings' dates), cuts the tiles for each photograph of the frame and then the view (each
-// within kBuildingReachMetresPerPixel x its focal length), requests what the cuts lack, evicts the
+// within kBuildingReachMetresPerPixel x its focal length; the view also without the tiles thinner
+// than settings' buildingMinPixels in its picture), requests what the cuts lack, evicts the
 // least recently used tiles while the buildings and the terrain together exceed the budget, and
 // marks dirty each depth map whose cut changed. Batch frames wait until no cut waits for anything.
 void FrameBuilder::streamBuildings(Frame& f, int debugSlot) {
@@ -130,7 +130,8 @@ void FrameBuilder::streamBuildings(Frame& f, int debugSlot) {
       missing += c.missing;
       slotBuildingCut_[size_t(slot)] = std::move(c.tiles);
     }
-    view = buildings_->select(f.view, f.rect.clipFromRender, 0.0, reach(f.view));
+    view = buildings_->select(f.view, f.rect.clipFromRender, 0.0, reach(f.view),
+                              std::max(0.0, settings_.buildingMinPixels));
     return missing + view.missing;
   };
   for (BuildingTileMesh& m : buildings_->poll()) install(std::move(m));

@@ -157,6 +157,10 @@ struct RenderSettings {
   // The view and each depth map draw only the geometry tiles their frustum may see
   // (render/geometry_tiles.h); off: every tile (the same pixels, more work).
   bool geometryCulling = true;
+  // Streamed building tiles (render/building_stream.h) whose box's picture in the view is thinner
+  // than this many pixels are not drawn in the view (a sliver at most that thick, far off at street
+  // level); depth maps keep their reach rule. 0: every tile the view may see.
+  double buildingMinPixels = 2.0;
   // false: render() leaves RenderOutput::rgba empty and the colour stays on the GPU, in
   // colorTexture() (a window presents it without a GPU -> CPU copy). Counts are read back anyway.
   bool readBackColour = true;

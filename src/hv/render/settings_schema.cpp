@@ -349,6 +349,9 @@ std::vector<Setting> makeSchema() {
   t.push_back(field("geometry-tolerance", resources, "screen-space error a streamed terrain tile may have in the view "
                     "and in each depth map", [](auto& s) -> auto& { return s.geometryTolerancePx; })
                   .unit("px").above(0).slider(0.25, 32, true));
+  t.push_back(field("building-min-pixels", resources, "streamed building tiles whose box is thinner than this in "
+                    "the view are not drawn there (depth maps keep their reach); 0: every tile it may see",
+                    [](auto& s) -> auto& { return s.buildingMinPixels; }).unit("px").atLeast(0).slider(0, 32));
 
   std::vector<Setting> out;
   for (Entry& e : t) out.push_back(std::move(e.s));
