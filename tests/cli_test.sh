@@ -299,13 +299,16 @@ for l in layers:
 for name in ("mergedimage.png", "Thumbnails/thumbnail.png"):
     z.getinfo(name)
 PY
-# The peeling the command used is printed; the GPU pass (when a GL context can be made) and the CPU
-# reference give the same stack.
+# The peeling the command used is printed (auto: the CPU on a software renderer such as llvmpipe);
+# the GPU pass and the CPU reference give the same stack.
 expect_out "layers export" "peeling: (GPU|CPU) "
+run layers-gpu layers export "$city/scene.json" --image "$layer_id" "$DIR/layers-gpu.ora" --size 160x120 --peeling gpu
+expect_rc "layers export --peeling gpu" 0
+expect_out "layers export --peeling gpu" "peeling: GPU "
 run layers-cpu layers export "$city/scene.json" --image "$layer_id" "$DIR/layers-cpu.ora" --size 160x120 --peeling cpu
 expect_rc "layers export --peeling cpu" 0
 expect_out "layers export --peeling cpu" "peeling: CPU "
-check "layers export: the same stack whichever peels" python3 - "$DIR/layers.ora" "$DIR/layers-cpu.ora" <<'PY'
+check "layers export: the same stack whichever peels" python3 - "$DIR/layers-gpu.ora" "$DIR/layers-cpu.ora" <<'PY'
 import sys, zipfile
 a, b = (zipfile.ZipFile(f).read("stack.xml") for f in sys.argv[1:3])
 assert a == b, (a, b)

@@ -1,6 +1,7 @@
 #include "hv/app/layers_command.h"
 
 #include "hv/gpu/context.h"
+#include "hv/gpu/gl.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/layers/native/layer_export.h"
 #include "hv/layers/native/layer_import.h"
@@ -75,6 +76,18 @@ int runLayersExport(const LayersExportOptions& o) {
       }
       peelingNote = std::string("CPU (no GL context for the GPU pass: ") + e.what() + ")";
     }
+  }
+  // auto: on a software rasteriser (Mesa's llvmpipe or softpipe, SwiftShader) the GL pass was
+  // measured 15-21x slower than the CPU reference (docs/performance.md, "Layers"), so the CPU peels.
+  if (context && o.peeling == "auto") {
+    const std::string renderer = gpu::queryLimits().renderer;
+    for (const char* software : {"llvmpipe", "softpipe", "SwiftShader"})
+      if (renderer.find(software) != std::string::npos) {
+        peelingNote = "CPU (the GL context is a software renderer, " + renderer +
+                      ", where the CPU reference is faster; --peeling gpu uses the GL pass)";
+        context.reset();
+        break;
+      }
   }
   render::GpuObjectLayers gpuLayers;
   if (context)
@@ -162,7 +175,8 @@ void addLayersCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str();
   cmd->add_option("--peeling", o->peeling,
                   "visibility layers: gpu (the GL pass: item buffer, occlusion queries; the CPU finishes from the "
-                  "first cycle), cpu (the reference, from the ray casts), auto (gpu when a GL context can be made)")
+                  "first cycle), cpu (the reference, from the ray casts), auto (gpu when a GL context can be made on "
+                  "hardware; on a software renderer such as llvmpipe, cpu)")
       ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->capture_default_str();
   setAction(*cmd, exitCode, [o] { return runLayersExport(*o); });
