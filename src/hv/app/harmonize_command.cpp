@@ -21,7 +21,8 @@
 namespace hv::app {
 
 HarmonizeRun harmonizeScene(const Scene& scene, const ibr::HarmonizeSettings& settings, int sliceSide,
-                            Diagnostics& diag, const std::function<void(const std::string&)>& progress) {
+                            Diagnostics& diag, const std::function<void(const std::string&)>& progress,
+                            const std::string& pairsCsv) {
   HarmonizeRun run;
   const size_t n = scene.photos.size();
   std::vector<Image8> slices(n);
@@ -51,6 +52,14 @@ HarmonizeRun harmonizeScene(const Scene& scene, const ibr::HarmonizeSettings& se
     const RayCaster caster(geometry);
     const std::vector<ibr::ColourPair> pairs = ibr::collectColourPairs(images, caster, settings);
     run.pairs = pairs.size();
+    if (!pairsCsv.empty()) {
+      std::ofstream csv(pairsCsv);
+      csv << "a,b,ra,ga,ba,rb,gb,bb,tr,tg,tb\n" << std::setprecision(6);
+      for (const ibr::ColourPair& p : pairs)
+        csv << p.a << ',' << p.b << ',' << p.ca.r << ',' << p.ca.g << ',' << p.ca.b << ',' << p.cb.r << ',' << p.cb.g
+            << ',' << p.cb.b << ',' << p.texture.r << ',' << p.texture.g << ',' << p.texture.b << '\n';
+      if (!csv) diag.error(pairsCsv + ": cannot write the pairs");
+    }
     if (progress) progress(std::to_string(pairs.size()) + " overlap pairs");
     run.result = ibr::solveColourCorrections(n, pairs, settings);
   } else {
@@ -68,6 +77,7 @@ struct HarmonizeOptions {
   std::string scene;
   std::string out = "corrections.json";
   int sliceSide = 1024;
+  std::string pairsCsv;
   ibr::HarmonizeSettings settings;
 };
 
@@ -83,8 +93,8 @@ int runHarmonize(const HarmonizeOptions& o) {
   }
   for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
   diag.errors.clear();
-  const HarmonizeRun run =
-      harmonizeScene(scene, o.settings, o.sliceSide, diag, [](const std::string& line) { std::cerr << line << "\n"; });
+  const HarmonizeRun run = harmonizeScene(
+      scene, o.settings, o.sliceSide, diag, [](const std::string& line) { std::cerr << line << "\n"; }, o.pairsCsv);
   for (const auto& w : diag.warnings) std::cerr << "warning: " << w << "\n";
   for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
   std::ofstream f(o.out);
@@ -99,6 +109,11 @@ int runHarmonize(const HarmonizeOptions& o) {
     << " pairs; colour difference (rms) " << run.result.rmsBefore << " -> " << run.result.rmsAfter
     << ", over the inliers " << run.result.inlierRmsBefore << " -> " << run.result.inlierRmsAfter << " ("
     << std::setprecision(1) << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s)\n";
+  std::string monochrome;
+  for (size_t i = 0; i < run.result.monochrome.size(); ++i)
+    if (run.result.monochrome[i]) monochrome += (monochrome.empty() ? "" : ", ") + run.entries[i].id;
+  if (!monochrome.empty())
+    m << "monochrome (chroma lost: matched in luma only, solved after the others): " << monochrome << "\n";
   std::cout << m.str() << "wrote " << o.out << " (name it in scene.json: \"colour\": \"" << o.out << "\")\n";
   return exitStatus(diag);
 }
@@ -117,13 +132,43 @@ void addHarmonizeCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--samples", o->settings.samplesPerImage, "rays cast from each photograph")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();
-  cmd->add_option("--prior", o->settings.prior,
-                  "pull of each correction towards the identity, relative to its pairs' weight: the default holds "
-                  "photographs whose overlaps disagree through the proxy (LOD1 walls, unmasked cars) near their colours, "
-                  "at the cost of undoing casts only in part; 1e-6 undoes the casts of overlaps that agree exactly "
-                  "(docs/design.md)")
+  cmd->add_option(
+         "--prior", o->settings.prior,
+         "with --refine-scale 0 (the least-squares solve): pull of each correction towards the identity, relative "
+         "to its pairs' weight: the default holds photographs whose overlaps disagree through the proxy (LOD1 walls, "
+         "unmasked cars) near their colours, at the cost of undoing casts only in part; 1e-6 undoes the casts of "
+         "overlaps that agree exactly "
+         "(docs/design.md)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
+  cmd->add_option(
+         "--refine-scale", o->settings.refineScale,
+         "the refinement, in place of the least-squares solve: each photograph's map that most of its pairs agree "
+         "with (RANSAC), then --refine-iterations reweightings by Tukey's biweight of this scale (colour "
+         "units) with --refine-prior; 0: the least-squares solve (--prior) instead (docs/design.md)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--refine-prior", o->settings.refinePrior, "the pull towards the identity in the refinement")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--refine-iterations", o->settings.refineIterations,
+                  "Tukey reweightings after the consensus (0, the default: the consensus alone; on the demo city "
+                  "they let the corrections drift, docs/design.md)")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->add_option("--texture-scale", o->settings.textureScale,
+                  "pairs on texture weigh less: weight 1 / (1 + (gradient / this)^2), the gradient in colour per "
+                  "texel; 0: every pair weighs the same")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_option("--monochrome-spread", o->settings.monochromeSpread,
+                  "a photograph whose colours lie this close to a line (rms, colour units) is monochrome and solved "
+                  "after the others, alone; 0: none is")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--pairs-csv", o->pairsCsv,
+                  "also write every overlap pair (photograph indices, both colours, the texture) to this CSV file, "
+                  "for study");
   cmd->add_option("--size", o->sliceSide, "photographs are sampled at most this many pixels on their longer side")
       ->check(CLI::Range(16, 16384))
       ->capture_default_str();

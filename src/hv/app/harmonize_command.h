@@ -27,9 +27,11 @@ struct HarmonizeRun {
 
 // Decodes every photograph (with its mask) at most `sliceSide` pixels on its longer side, casts
 // the rays against the scene's terrain, buildings and mesh, and solves the corrections. A
-// photograph that cannot be decoded is reported in `diag` and keeps the identity.
+// photograph that cannot be decoded is reported in `diag` and keeps the identity. `pairsCsv`, when
+// given, receives every overlap pair (for study).
 HarmonizeRun harmonizeScene(const Scene& scene, const ibr::HarmonizeSettings& settings, int sliceSide,
-                            Diagnostics& diag, const std::function<void(const std::string&)>& progress = {});
+                            Diagnostics& diag, const std::function<void(const std::string&)>& progress = {},
+                            const std::string& pairsCsv = {});
 
 void addHarmonizeCommand(CLI::App& app, int& exitCode);
 

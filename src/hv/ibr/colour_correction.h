@@ -44,6 +44,26 @@ struct HarmonizeSettings {
   double prior = 0.1;
   double huber = 0.05;  // colour units: pair residuals beyond it are down-weighted
   int iterations = 10;  // reweighting iterations
+  // The refinement (refineScale 0: none, the least-squares solve above is the result). It
+  // replaces that solve: it starts from each photograph's map onto the others that most of its pairs agree with, within
+  // `consensusTolerance` (colour units), found by random sampling (RANSAC) in a few sweeps: two
+  // nearby points seen through an inexact proxy rarely agree, so they do not dilute the gains as
+  // they do in least squares. `refineIterations` joint reweightings by Tukey's biweight of scale
+  // `refineScale` with `refinePrior` may follow; measured on the demo city they let the set drift
+  // (docs/design.md), so none by default (and none for the monochrome photographs, on their luma).
+  double refineScale = 0.02;
+  double refinePrior = 1e-3;
+  int refineIterations = 0;
+  double consensusTolerance = 3.0 / 255.0;
+  // Pairs on texture weigh less: a pair's weight is 1 / (1 + (t / textureScale)^2), t the larger
+  // local colour gradient (per texel of the sampled photograph, per channel) of its two colours;
+  // a misregistered pair on a flat patch still agrees. 0: every pair weighs the same.
+  double textureScale = 0.02;
+  // A photograph whose colours lie on a line (rms distance to it at most this, colour units) is
+  // monochrome (sepia, cyanotype): no colour map gives its chroma back, so it takes no part in
+  // the others' solve (its pairs would pull their colours towards its line) and is solved after,
+  // alone, against the others' corrected colours. 0: none is.
+  double monochromeSpread = 1.5 / 255.0;
 };
 
 // One photograph as the estimation samples it.
@@ -57,6 +77,9 @@ struct OverlapImage {
 struct ColourPair {
   int a = -1, b = -1;
   glm::dvec3 ca{0.0}, cb{0.0};
+  // The larger of the two photographs' local colour gradients there (colour per texel of the
+  // sampled photograph), per channel: 0 on a flat patch.
+  glm::dvec3 texture{0.0};
 };
 
 // Every pair of the overlaps (see above). `geometry` answers in the cameras' (world) frame.
@@ -70,10 +93,14 @@ struct HarmonizeResult {
   // corrections, and the same over the pairs the last reweighting kept as inliers (|r| <= huber).
   double rmsBefore = 0.0, rmsAfter = 0.0;
   double inlierRmsBefore = 0.0, inlierRmsAfter = 0.0;
+  std::vector<bool> monochrome;  // per photograph: its colours lie on a line (solved after the others)
 };
 
 // Minimises, per channel, sum over pairs rho(g_a c_a + o_a - g_b c_b - o_b), rho Huber's (by
-// iteratively reweighted least squares), plus a tiny ridge towards the identity. The overlaps fix
+// iteratively reweighted least squares), plus a ridge towards the identity; or, by default, the
+// refinement that replaces it (HarmonizeSettings::refineScale: each photograph's map that most of
+// its pairs agree with). Monochrome photographs are left out of that solve and each solved after,
+// alone, against the others. The overlaps fix
 // the corrections only up to one common affine map per connected set of photographs (the gauge):
 // while solving, the set's mean gain is held at 1 and its mean offset at 0; then the common map
 // that brings its median gain to 1 and median offset to 0 is applied, so that the photographs that

@@ -194,7 +194,8 @@ TEST(ColourCorrection, PhotographWithoutPairsKeepsTheIdentity) {
 }
 
 // The prior (harmonize --prior) trades the overlaps against the identity: a tiny one leaves a cast
-// to the overlaps alone, the default (0.1) undoes it only in part, and never past it.
+// to the overlaps alone, the default (0.1) alone undoes it only in part, and never past it (the
+// refinement after it, on by default, undoes it: see RefinementUndoesACastThroughMisregisteredPairs).
 TEST(ColourCorrection, StrongPriorUndoesACastInPartOnly) {
   // Photographs 0 and 1 agree; photograph 2 shows every colour at 0.8 of its value (its
   // correction's gain is 1.25).
@@ -211,7 +212,9 @@ TEST(ColourCorrection, StrongPriorUndoesACastInPartOnly) {
   const HarmonizeResult exact = solveColourCorrections(3, pairs, tiny);
   EXPECT_NEAR(exact.corrections[2].gain.r, 1.25, 1e-3);
   EXPECT_NEAR(exact.corrections[0].gain.r, 1.0, 1e-3);
-  const HarmonizeResult held = solveColourCorrections(3, pairs, HarmonizeSettings{});  // the default, 0.1
+  HarmonizeSettings prior;  // the default prior, 0.1, alone: no refinement after it
+  prior.refineScale = 0.0;
+  const HarmonizeResult held = solveColourCorrections(3, pairs, prior);
   for (int ch = 0; ch < 2; ++ch) {  // blue is 0.5 everywhere: its gain and offset trade, only the colour counts
     EXPECT_GT(held.corrections[2].gain[ch], 1.02) << ch;
     EXPECT_LT(held.corrections[2].gain[ch], 1.24) << ch;
@@ -220,6 +223,106 @@ TEST(ColourCorrection, StrongPriorUndoesACastInPartOnly) {
   const double shown = held.corrections[2].gain.b * 0.4 + held.corrections[2].offset.b;
   EXPECT_GT(shown, 0.4 + 1e-3);
   EXPECT_LT(shown, 0.5 - 1e-3);
+}
+
+// A small deterministic generator for the tests below (xorshift64*), uniform in [0, 1).
+struct Rng {
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;
+  double operator()() {
+    state ^= state >> 12;
+    state ^= state << 25;
+    state ^= state >> 27;
+    return double((state * 0x2545F4914F6CDD1Dull) >> 11) * 0x1.0p-53;
+  }
+};
+
+glm::dvec3 quantized(const glm::dvec3& c) { return glm::round(glm::clamp(c, 0.0, 1.0) * 255.0) / 255.0; }
+
+// The demo city's faded print: 0.62 c + (0.27, 0.25, 0.19); undone by gain 1/0.62.
+const Cast kFaded{glm::dvec3(0.62), {0.27, 0.25, 0.19}};
+
+// Overlaps seen through an inexact proxy: of the pairs, a share holds two nearby points (colours
+// that differ by a few hundredths, both ways), the rest one point; photograph 3 is faded. The
+// prior alone dilutes its gain; the refinement keeps the pairs that agree and undoes the cast.
+TEST(ColourCorrection, RefinementUndoesACastThroughMisregisteredPairs) {
+  Rng rng;
+  std::vector<ColourPair> pairs;
+  const std::vector<Cast> casts = {{}, {}, {}, kFaded, {}};
+  for (int k = 0; k < 20000; ++k) {
+    const int a = int(rng() * 5.0), b = (a + 1 + int(rng() * 4.0)) % 5;
+    const glm::dvec3 c(0.1 + 0.7 * rng(), 0.1 + 0.7 * rng(), 0.1 + 0.7 * rng());
+    glm::dvec3 d = c;
+    if (rng() < 0.4)
+      d = glm::clamp(c + 0.08 * glm::dvec3(rng() - 0.5, rng() - 0.5, rng() - 0.5) + glm::dvec3(0.15 * (rng() - 0.5)),
+                     0.0, 1.0);
+    pairs.push_back({a, b, quantized(casts[size_t(a)].apply(c)), quantized(casts[size_t(b)].apply(d))});
+  }
+  const HarmonizeResult refined = solveColourCorrections(5, pairs, HarmonizeSettings{});
+  for (size_t i = 0; i < casts.size(); ++i) {
+    EXPECT_FALSE(refined.monochrome[i]) << i;
+    EXPECT_LE(worstError(refined.corrections[i], casts[i]), 2.0 / 255.0) << i;
+  }
+  HarmonizeSettings prior;
+  prior.refineScale = 0.0;
+  const HarmonizeResult held = solveColourCorrections(5, pairs, prior);
+  EXPECT_GT(worstError(held.corrections[3], kFaded), 6.0 / 255.0);
+}
+
+// Pairs on texture weigh less: here every pair on texture is misregistered the same way (its
+// second colour brighter by 0.1, as a shadow edge would give), every flat one exact.
+TEST(ColourCorrection, PairsOnTextureWeighLess) {
+  Rng rng;
+  std::vector<ColourPair> pairs;
+  for (int k = 0; k < 6000; ++k) {
+    const int a = k % 3, b = (a + 1) % 3;
+    const glm::dvec3 c(0.1 + 0.6 * rng(), 0.1 + 0.6 * rng(), 0.1 + 0.6 * rng());
+    const bool textured = k % 2 == 0 && b == 2;
+    pairs.push_back({a, b, c, textured ? c + 0.1 : c, glm::dvec3(textured ? 0.2 : 0.0)});
+  }
+  HarmonizeSettings s;
+  s.refineScale = 0.0;
+  s.prior = 1e-6;
+  EXPECT_LE(worstError(solveColourCorrections(3, pairs, s).corrections[2], Cast{}), 2.0 / 255.0);
+  s.textureScale = 0.0;  // every pair the same: photograph 2 moves
+  EXPECT_GT(worstError(solveColourCorrections(3, pairs, s).corrections[2], Cast{}), 5.0 / 255.0);
+}
+
+// Luma (Rec. 601), as the demo city's monochrome casts use it.
+double luma(const glm::dvec3& c) { return 0.299 * c.r + 0.587 * c.g + 0.114 * c.b; }
+glm::dvec3 sepia(const glm::dvec3& c) {
+  const double y = luma(c);
+  return {0.08 + 0.98 * y, 0.05 + 0.84 * y, 0.02 + 0.62 * y};
+}
+
+// A sepia photograph has one luma per pixel: it is found monochrome, takes no part in the others'
+// solve (which it would pull towards its line), and is matched to them in luma; its chroma is not
+// given back (no per-photograph colour map can).
+TEST(ColourCorrection, MonochromePhotographIsMatchedInLumaOnly) {
+  Rng rng;
+  std::vector<ColourPair> pairs;
+  std::vector<glm::dvec3> colours;
+  for (int k = 0; k < 8000; ++k) {
+    const int a = k % 4, b = (a + 1 + k / 4 % 3) % 4;  // every pair of the four photographs
+    const glm::dvec3 c(0.1 + 0.7 * rng(), 0.1 + 0.7 * rng(), 0.1 + 0.7 * rng());
+    colours.push_back(c);
+    auto seen = [&](int i) { return quantized(i == 3 ? sepia(c) : c); };
+    pairs.push_back({a, b, seen(a), seen(b)});
+  }
+  const HarmonizeResult r = solveColourCorrections(4, pairs, HarmonizeSettings{});
+  EXPECT_EQ(r.monochrome, std::vector<bool>({false, false, false, true}));
+  for (size_t i = 0; i < 3; ++i) EXPECT_LE(worstError(r.corrections[i], Cast{}), 1.0 / 255.0) << i;
+  double lumaError = 0.0, lumaCast = 0.0, chromaError = 0.0;
+  for (const glm::dvec3& c : colours) {
+    const glm::dvec3 shown = r.corrections[3].apply(quantized(sepia(c)));
+    lumaError += (luma(shown) - luma(c)) * (luma(shown) - luma(c));
+    lumaCast += (luma(sepia(c)) - luma(c)) * (luma(sepia(c)) - luma(c));
+    chromaError = std::max({chromaError, std::abs(shown.r - c.r), std::abs(shown.b - c.b)});
+  }
+  lumaError = std::sqrt(lumaError / double(colours.size()));
+  lumaCast = std::sqrt(lumaCast / double(colours.size()));
+  EXPECT_LE(lumaError, 1.0 / 255.0);
+  EXPECT_GT(lumaCast, 5.0 / 255.0);
+  EXPECT_GT(chromaError, 0.2);  // the chroma stays lost
 }
 
 }  // namespace
