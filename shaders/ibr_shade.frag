@@ -67,6 +67,14 @@ uniform float u_sliceWidth;        // texels of a slice
 // The transient filter's spread (RGB in [0, 1]); 0: off. Twin: hv::ibr::consensusWeights.
 uniform float u_consensus;
 
+// The orthophoto draped on untextured terrain (Scene::orthophoto; de Castro & Brédif 2022's terrain
+// texture): straight RGBA, texture coordinates (dot(u_orthoU, (x, y, 1)), dot(u_orthoV, ...)) of
+// the render-frame point, hv::orthophotoAffine; its CPU twin is hv::sampleOrthophoto.
+uniform bool u_orthophotoOn;
+uniform highp sampler2D u_orthophoto;
+uniform vec3 u_orthoU;
+uniform vec3 u_orthoV;
+
 out vec4 o_color;
 
 // hv::ibr::kMaxGeometryK + 1: a pixel's best K and the K+1-th.
@@ -82,8 +90,15 @@ void writeBackground() {
 
 // Where no photograph contributes, alpha 0 (not covered). In the picture (u_mode 0) a surface is
 // shaded and a pixel without geometry shows the sky (untextured.glsl), each unless switched off;
-// otherwise, and in the debug views, the background colour.
-void writeUncovered(bool surface, vec3 ray, vec3 normal) {
+// otherwise, and in the debug views, the background colour. Terrain under the orthophoto shows it
+// as it is, over the shading (or the background) by its alpha.
+void writeUncovered(bool surface, vec3 ray, vec3 normal, vec3 P, bool terrain) {
+  vec4 ortho = vec4(0.0);
+  if (u_mode == 0 && surface && terrain && u_orthophotoOn) {
+    vec2 uv = vec2(dot(u_orthoU, vec3(P.xy, 1.0)), dot(u_orthoV, vec3(P.xy, 1.0)));
+    if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0))))
+      ortho = textureLod(u_orthophoto, uv, 0.0);
+  }
   if (u_mode == 0 && surface && u_shading) {
     o_color = vec4(hv_shadeUntextured(dot(normal, ray) > 0.0 ? -normal : normal), 0.0);
   } else if (u_mode == 0 && !surface && u_sky) {
@@ -91,6 +106,7 @@ void writeUncovered(bool surface, vec3 ray, vec3 normal) {
   } else {
     writeBackground();
   }
+  o_color.rgb = mix(o_color.rgb, ortho.rgb, ortho.a);
 }
 
 vec4 encodeCount(int n) { return vec4(float(n & 255) / 255.0, float(n >> 8) / 255.0, 0.0, 1.0); }
@@ -304,7 +320,7 @@ void main() {
   normal = dot(normal, normal) > 0.0 ? normalize(normal) : vec3(0.0, 0.0, 1.0);
   if (background) {
     if (outsideLens) writeBackground();
-    else writeUncovered(false, ray, normal);
+    else writeUncovered(false, ray, normal, P, false);
     return;
   }
   // When the surface under this pixel existed (terrain: always).
@@ -472,7 +488,8 @@ void main() {
     return;
   }
   if (alpha <= 0.0) {
-    writeUncovered(!onSphere, ray, normal);
+    // Terrain: building index 0 (depth.frag; buildings and the mesh write theirs).
+    writeUncovered(!onSphere, ray, normal, P, texelFetch(u_viewBuilding, dpix, 0).rgb == vec3(0.0));
     return;
   }
   o_color = u_mode == 5 ? vec4(hv_colorRamp(share), 1.0) : vec4(sum / alpha, 1.0);

@@ -15,13 +15,13 @@ uniform int u_validityWidth;
 
 // When the surface drawn at view-depth texel `dpix` by the view's geometry pass existed, in days
 // (depth.frag writes the building index, u_validity holds each building's interval); terrain and
-// pixels without a building: always. The intervals are hv::ibr::gpuDays (src/hv/ibr/frame_plan.h)
+// pixels without a building (0, or 0xFFFFFF: the scene.json mesh, hv::render::kMeshSurfaceId): always. The intervals are hv::ibr::gpuDays (src/hv/ibr/frame_plan.h)
 // of Scene::buildingValidity, uploaded by the renderer.
 vec2 hv_surfaceExisted(ivec2 dpix) {
   vec2 existed = vec2(-1e7, 1e7);
   vec4 b = texelFetch(u_viewBuilding, dpix, 0) * 255.0;
   int building = int(b.r + 0.5) + 256 * int(b.g + 0.5) + 65536 * int(b.b + 0.5);
-  if (building > 0) {
+  if (building > 0 && building < 16777215) {
     int index = building - 1;
     existed = texelFetch(u_validity, ivec2(index % u_validityWidth, index / u_validityWidth), 0).xy;
   }

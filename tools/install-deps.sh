@@ -28,6 +28,7 @@ packages=(
   sumo sumo-tools                                       # the demo's traffic: netconvert, randomTrips.py, sumo --fcd-output
   libtinygltf-dev                                       # glTF vehicle models (scene.json traffic.models): tinygltf, header-only
   iipimage-server                                       # iipsrv: the IIIF image service of tools/services.sh and tests/iiif_test.sh
+  mapcache-cgi                                          # MapCache: the orthophoto's WMTS in tools/services.sh and tests/orthophoto_wmts_test.sh
 )
 
 missing=()

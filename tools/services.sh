@@ -17,6 +17,8 @@
 #   IIIF Image API 2        the tiled pyramidal TIFFs of DIR/iiif/ under /iiif?IIIF=NAME.tif/...
 #                           (iipsrv, Debian's iipimage-server, through FastCGI), when DIR has
 #                           an iiif/ folder and iipsrv is installed
+#   WMTS                    the orthophoto, layer "orthophoto", by MapCache under /mapcache/wmts,
+#                           when DIR has orthophoto.tif and mapcache-cgi is installed
 # Every response carries Access-Control-Allow-Origin: *. Everything runs as the invoking user; the
 # configuration, logs and pidfile live in a private temporary folder (printed by `up`), never in DIR.
 set -euo pipefail
@@ -119,9 +121,11 @@ rm -rf "$STATE"
 mkdir -m 700 "$STATE"
 URL=http://127.0.0.1:$PORT
 
-# The DTM's grid and no-data value, for the WCS metadata: read from the GeoTIFF's tags
-# (ModelPixelScale, ModelTiepoint, GDAL_NODATA) by a few lines of Python, so no GDAL tool is needed.
-read -r cols rows minx miny maxx maxy resx resy nodata < <(python3 - "$DIR/dtm.tif" <<'PY'
+# A GeoTIFF's grid and no-data value (the DTM's for the WCS metadata, the orthophoto's for
+# MapCache's grid): read from its tags (ModelPixelScale, ModelTiepoint, GDAL_NODATA) by a few lines
+# of Python, so no GDAL tool is needed.
+tiff_grid() {
+  python3 - "$1" <<'PY'
 import struct, sys
 data = open(sys.argv[1], "rb").read()
 order = {b"II": "<", b"MM": ">"}[data[:2]]
@@ -151,7 +155,8 @@ tie = tags[33922]
 x0 = tie[3] - tie[0] * sx; y1 = tie[4] + tie[1] * sy
 print(w, h, x0, y1 - h * sy, x0 + w * sx, y1, sx, sy, tags.get(42113, "").strip() or "none")
 PY
-)
+}
+read -r cols rows minx miny maxx maxy resx resy nodata < <(tiff_grid "$DIR/dtm.tif")
 [[ -n ${resy:-} ]] || die "$DIR/dtm.tif: cannot read its size and georeferencing"
 [[ $nodata == none ]] && nodata=
 
@@ -268,6 +273,55 @@ elif [[ -d $DIR/iiif ]]; then
   echo "services.sh: $IIPSRV not found: no IIIF service (package iipimage-server)" >&2
 fi
 
+# WMTS: the orthophoto (DIR/orthophoto.tif, written by histoview demo) through MapCache (Debian's
+# mapcache-cgi) as a CGI program, its GDAL source reading the file, tiles cached under the state
+# folder. One grid in EPSG:2154 over the orthophoto's own extent, its top-left corner that of the
+# file and its finest level the file's own pixel, so a tile's pixels are the file's pixels; two
+# coarser levels for GDAL's overview choice.
+MAPCACHE=${HV_MAPCACHE:-/usr/lib/cgi-bin/mapcache}
+mapcache_conf=
+if [[ -f $DIR/orthophoto.tif && -x $MAPCACHE ]]; then
+  read -r _ _ ominx ominy omaxx omaxy ores _ _ < <(tiff_grid "$DIR/orthophoto.tif") ||
+    die "$DIR/orthophoto.tif: cannot read its size and georeferencing"
+  mkdir -p "$STATE/mapcache-tiles" "$STATE/mapcache-lock"
+  cat >"$STATE/mapcache.xml" <<EOF
+<?xml version="1.0" encoding="UTF-8"?>
+<mapcache>
+  <source name="orthophoto" type="gdal"><data>$DIR/orthophoto.tif</data></source>
+  <cache name="disk" type="disk"><base>$STATE/mapcache-tiles</base></cache>
+  <grid name="city">
+    <metadata><title>EPSG:2154 over the orthophoto</title></metadata>
+    <srs>EPSG:2154</srs>
+    <size>256 256</size>
+    <extent>$ominx $ominy $omaxx $omaxy</extent>
+    <origin>top-left</origin>
+    <units>m</units>
+    <resolutions>$(python3 -c "import sys; r = float(sys.argv[1]); print(r * 4, r * 2, r)" "$ores")</resolutions>
+  </grid>
+  <format name="PNG32" type="PNG"><compression>fast</compression></format>
+  <tileset name="orthophoto">
+    <source>orthophoto</source><cache>disk</cache><grid>city</grid><format>PNG32</format>
+    <metatile>1 1</metatile><metabuffer>0</metabuffer>
+  </tileset>
+  <service type="wmts" enabled="true"/>
+  <service type="wms" enabled="false"/>
+  <errors>report</errors>
+  <lock_dir>$STATE/mapcache-lock</lock_dir>
+  <threaded_fetching>false</threaded_fetching>
+</mapcache>
+EOF
+  mapcache_conf=$(cat <<MC
+alias.url += ("/mapcache" => "$MAPCACHE")
+\$HTTP["url"] =~ "^/mapcache" {
+  cgi.assign = ("" => "")
+  setenv.add-environment = ("MAPCACHE_CONFIG_FILE" => "$STATE/mapcache.xml")
+}
+MC
+)
+elif [[ -f $DIR/orthophoto.tif ]]; then
+  echo "services.sh: $MAPCACHE not found: no WMTS of the orthophoto (package mapcache-cgi)" >&2
+fi
+
 cat >"$STATE/lighttpd.conf" <<EOF
 server.bind = "127.0.0.1"
 server.port = $PORT
@@ -286,6 +340,7 @@ alias.url = ("/mapserv" => "$MAPSERV", "/files/" => "$DIR/")
 }
 setenv.add-response-header = ("Access-Control-Allow-Origin" => "*")
 $iiif_conf
+$mapcache_conf
 EOF
 mkdir -p "$STATE/www"
 echo "$URL" >"$STATE/url"
@@ -310,6 +365,7 @@ serving $DIR on $URL (state: $STATE)
   OGC API:        OAPIF:$URL/mapserv/city/ogcapi/collections/buildings
 ${cameras_layer:+  WFS cameras:    WFS:$URL/mapserv?map=city&TYPENAME=ms:cameras
 }${iiif_conf:+  IIIF:           $URL/iiif?IIIF=NAME.tif/info.json (NAME.tif in $DIR/iiif/)
+}${mapcache_conf:+  WMTS orthophoto: WMTS:$URL/mapcache/wmts?SERVICE=WMTS&REQUEST=GetCapabilities
 }  files:          $URL/files/cameras.json
 stop with: tools/services.sh down $DIR
 EOF

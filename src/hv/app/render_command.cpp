@@ -5,15 +5,17 @@
 #include "hv/image/colormap.h"
 #include "hv/image/native/png_write.h"
 #include "hv/io/native/georef.h"
+#include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/native/points_tiles.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/render/frame.h"
 #include "hv/render/settings.h"
+#include "hv/scene/orthophoto.h"
+#include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
 #include "hv/util/log.h"
-#include "hv/scene/scene_scale.h"
 #include "hv/viewer/navigation.h"
 
 #include <CLI/CLI.hpp>
@@ -200,6 +202,13 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   }
   const std::optional<double> ground = groundPlaneHeight(scenePath);
   if (ground) std::cout << "  a ground plane at height " << *ground << " (terrain.height), no DTM\n";
+  {
+    Diagnostics orthoDiag;
+    if (const std::shared_ptr<const Orthophoto> o = loadOrthophoto(scene, orthoDiag))
+      std::cout << "  orthophoto " << o->width << " x " << o->height << " px, " << std::setprecision(4)
+                << o->metresPerPixelX() << " m per pixel, " << o->bytes() << " bytes (RGBA): " << o->path << "\n";
+    for (const std::string& w : orthoDiag.warnings) std::cout << "  orthophoto: " << w << "\n";
+  }
   std::cout << "buildings  " << scene.buildings.triangles.size() << " triangles\n";
   printTilesAndMemory(scene);
   std::cout << "mesh       " << scene.mesh.positions.size() << " vertices, " << scene.mesh.triangles.size()

@@ -11,6 +11,7 @@
 
 #include "hv/demo/demo_city.h"
 #include "hv/demo/footprint_shapes.h"
+#include "hv/scene/orthophoto.h"
 
 namespace hv::demo::detail {
 
@@ -113,5 +114,11 @@ std::string largeBuildingId(int i, int j, int lot);
 
 // A car (body, cabin, glass band, wheels) standing on the ground at `base`, heading along `dir`.
 void addCar(Layer& layer, glm::dvec3 base, glm::dvec2 dir, glm::dvec3 color);
+
+// The city seen straight from above over the DTM's extent (its first to last sample centres, the
+// terrain mesh's extent): one vertical ray per pixel through its centre onto world.truth, shade()d,
+// `maxSide` pixels on the longer side; alpha 0 where the ray hits nothing. The demo's
+// orthophoto.tif (scene.json "orthophoto").
+Orthophoto orthophotoFromAbove(const World& world, const RayCaster& truthCaster, int maxSide);
 
 }  // namespace hv::demo::detail

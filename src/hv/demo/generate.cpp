@@ -10,10 +10,12 @@
 
 #include "hv/demo/city_files.h"
 #include "hv/demo/demo_city.h"
+#include "hv/demo/demo_internal.h"
 #include "hv/demo/vehicle_models.h"
 #include "hv/image/native/png_write.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/las_writer.h"
+#include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/raster.h"
 
@@ -23,6 +25,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+
+// The orthophoto's longer side, pixels.
+constexpr int kDemoOrthophotoSide = 384;
 
 // nlohmann::json prints doubles in their shortest round-trip form (up to 17 significant digits),
 // so cameras and footprints are written without loss.
@@ -122,8 +127,21 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - tScan).count() << " s";
     say(m.str());
   }
+  // The orthophoto draped where no photograph reaches: the ground truth from above, a few hundred
+  // pixels a side (cheap: one ray per pixel), as a cloud-optimised GeoTIFF.
+  const RayCaster caster(world.truth.mesh);
+  {
+    const auto tOrtho = std::chrono::steady_clock::now();
+    const Orthophoto ortho = detail::orthophotoFromAbove(world, caster, kDemoOrthophotoSide);
+    writeOrthophotoCog((dir / "orthophoto.tif").string(), ortho, "EPSG:2154");
+    std::ostringstream m;
+    m << "demo city: orthophoto " << ortho.width << " x " << ortho.height << " px of " << ortho.metresPerPixelX()
+      << " m in " << std::chrono::duration<double>(std::chrono::steady_clock::now() - tOrtho).count() << " s";
+    say(m.str());
+  }
   json sceneJson = {{"crs", "EPSG:2154"},
                     {"terrain", {{"path", "dtm.tif"}}},
+                    {"orthophoto", {{"path", "orthophoto.tif"}}},
                     {"buildings", {{"path", large ? "buildings.gpkg" : "buildings.geojson"}, {"height", "height"}}},
                     {"points", {{"path", "points.las"}}},
                     {"cameras", {{"path", "cameras.json"}}}};
@@ -142,7 +160,6 @@ DemoSummary generate(const DemoOptions& options, const std::string& outDir,
   }
   writeJson(dir / "scene.json", sceneJson);
 
-  const RayCaster caster(world.truth.mesh);
   const ShotPlan plan = planShots(world, caster);
   say("demo city: cameras placed (" + std::to_string(plan.photos.size()) + " photographs, " +
       std::to_string(plan.views.size()) + " views)");

@@ -7,12 +7,18 @@
 #include "hv/ibr/slice_image.h"
 #include "hv/image/image.h"
 #include "hv/render/frame.h"
+#include "hv/scene/orthophoto.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace hv::render {
+
+// The "building index + 1" the surfaces' vertices carry (GeometryBuffers) for the scene.json
+// "mesh": neither terrain (0) nor a building (hv_surfaceExisted in shaders/image_test.glsl takes it
+// as always existing); the largest 24-bit index, so that the orthophoto is draped on terrain only.
+inline constexpr std::uint32_t kMeshSurfaceId = 0xFFFFFFu;
 
 // What the context can do, as far as the frame builder sizes things with it.
 struct BackendLimits {
@@ -62,6 +68,9 @@ class Backend {
   // Replaces the building validity texels (GeometryBuffers::validity's layout): streamed building
   // tiles bring their buildings' dates with them.
   virtual void uploadValidity(const std::vector<float>& validity, int width, int rows) = 0;
+  // The orthophoto draped on untextured terrain (Scene::orthophoto) and its map from the render
+  // frame to texture coordinates; sampled where UntexturedSettings::orthophoto.
+  virtual void uploadOrthophoto(const Orthophoto& orthophoto, const OrthophotoAffine& affine) = 0;
   // The point buffer, in chunk order, and the point programs. Throws when no program links.
   virtual PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) = 0;
   // Allocates the slots' stores (and, for the naive binding, the program that samples them).

@@ -63,6 +63,8 @@ class FrameBuilder {
   // Renderer::setLayeredPhotograph: photograph `photo` is expanded into its sub-images when
   // selected (null: the photograph as it is). Empties the slots.
   void setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered);
+  // Renderer::setOrthophoto: handed to the backend with its map from the render frame.
+  void setOrthophoto(std::shared_ptr<const Orthophoto> orthophoto);
   // The cache keys of a layered photograph's sub-images, in blending order (visibility layer, then
   // the file's order); empty for a photograph as it is. Keys are photos.size() and up.
   const std::vector<int>& subImageKeys(int photo) const { return subKeys_[size_t(photo)]; }

@@ -50,6 +50,7 @@ void FrameBuilder::buildGeometry() {
   for (int layer = 0; layer < kLayerCount; ++layer) {
     const Mesh* m = layers[size_t(layer)];
     const bool isBuildings = m == &scene_.buildings;
+    const bool isMesh = m == &scene_.mesh;
     const auto base = std::uint32_t(g.vertices.size() / kStride);
     g.layers[size_t(layer)] = {int(g.indices.size()), int(3 * m->triangles.size())};
     // A building's vertices are its own (LOD1 meshes are appended per footprint).
@@ -61,7 +62,9 @@ void FrameBuilder::buildGeometry() {
       // The render frame keeps coordinates small for floats (docs/conventions.md).
       const glm::dvec3 r = m->positions[v] - scene_.origin;
       glm::vec2 valid = always;
-      float building = 0.0f;
+      // Terrain 0, a building its index + 1, the "mesh" kMeshSurfaceId: the shading pass drapes
+      // the orthophoto on the terrain only.
+      float building = isMesh ? float(kMeshSurfaceId) : 0.0f;
       if (isBuildings) {
         const std::uint32_t tag = vertexTag[v];
         if (tag < scene_.buildingValidity.size()) valid = ibr::gpuDays(scene_.buildingValidity[tag]);
@@ -116,6 +119,12 @@ void FrameBuilder::buildGeometry() {
     g.validity[size_t(i) * 4 + 1] = d.y;
   }
   backend_.uploadGeometry(g);
+}
+
+void FrameBuilder::setOrthophoto(std::shared_ptr<const Orthophoto> orthophoto) {
+  static const Orthophoto kNone;
+  const Orthophoto& o = orthophoto ? *orthophoto : kNone;
+  backend_.uploadOrthophoto(o, o.empty() ? OrthophotoAffine{} : orthophotoAffine(o, scene_.origin));
 }
 
 // The filter that applies (PointSettings::filter, which may change between frames).

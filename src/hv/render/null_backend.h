@@ -34,6 +34,10 @@ class NullBackend final : public Backend {
     validityRows = rows;
     ++validityUploads;
   }
+  void uploadOrthophoto(const Orthophoto& o, const OrthophotoAffine& a) override {
+    orthophotoSize = {o.width, o.height};
+    orthophotoAffine = a;
+  }
   PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) override;
   void allocateSlots(const SlotLayout& layout) override { layout_ = layout; }
   void uploadImage(int slot, const Image8& slice) override { uploads.push_back({slot, slice.width, slice.height}); }
@@ -58,6 +62,8 @@ class NullBackend final : public Backend {
   std::map<std::uint64_t, int> streamedTiles;  // streamed tiles held: id -> triangles
   std::vector<float> validity;                 // the building validity texels, as last uploaded
   int validityWidth = 1, validityRows = 1, validityUploads = 0;
+  glm::ivec2 orthophotoSize{0};  // as uploaded (0: none)
+  OrthophotoAffine orthophotoAffine;
   std::size_t points = 0;                     // uploaded point vertices
   const SlotLayout& layout() const { return layout_; }
 

@@ -69,6 +69,9 @@ void Renderer::preload(const Camera& view) { impl_->builder.preload(view); }
 void Renderer::setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered) {
   impl_->builder.setLayeredPhotograph(photo, std::move(layered));
 }
+void Renderer::setOrthophoto(std::shared_ptr<const Orthophoto> orthophoto) {
+  impl_->builder.setOrthophoto(std::move(orthophoto));
+}
 const ibr::FramePlan& Renderer::lastPlan() const { return impl_->builder.lastPlan(); }
 const std::vector<ibr::ImageParams>& Renderer::lastImageParams() const { return impl_->builder.lastImageParams(); }
 const RenderSettings& Renderer::settings() const { return impl_->settings; }

@@ -10,6 +10,7 @@
 #include "hv/image/image.h"
 #include "hv/layers/layered_texture.h"
 #include "hv/render/settings.h"
+#include "hv/scene/orthophoto.h"
 #include "hv/scene/point_colors.h"
 #include "hv/scene/scene.h"
 #include "hv/util/diagnostics.h"
@@ -130,6 +131,10 @@ class Renderer {
   // slots are emptied (every photograph is made resident again). Throws std::invalid_argument for
   // a photo index out of range or a sub-image without pixels.
   void setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered);
+  // The orthophoto draped on untextured terrain (scene.json "orthophoto", read by
+  // hv::loadOrthophoto beside the scene; settings().untextured.orthophoto switches it): uploaded
+  // now. Null or empty: none.
+  void setOrthophoto(std::shared_ptr<const Orthophoto> orthophoto);
 
   const ibr::FramePlan& lastPlan() const;
   // The per-image parameters of the last frame, in the order the shader saw them.

@@ -237,6 +237,11 @@ std::vector<Setting> makeSchema() {
   t.push_back(field("sun-elevation", untextured, "shading: the sun's height above the horizon",
                     [](auto& s) -> auto& { return s.untextured.sunElevationDeg; })
                   .unit("degrees").range(0, 90));
+  t.push_back(field(
+      "orthophoto", untextured,
+      "untextured terrain shows the scene's orthophoto (scene.json "
+      "\"orthophoto\") where it covers it, as it is, instead of the shading",
+      [](auto& s) -> auto& { return s.untextured.orthophoto; }));
 
   t.push_back(windowEnd(true));
   t.push_back(windowEnd(false));

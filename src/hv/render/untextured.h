@@ -18,6 +18,9 @@ struct UntexturedSettings {
   bool shading = true;
   // Pixels without geometry show the sky gradient (false: the background colour).
   bool sky = true;
+  // Untextured terrain shows the scene's orthophoto (Scene::orthophoto, scene.json "orthophoto")
+  // where it covers it, as it is (not relit: it carries its own light), instead of the shading.
+  bool orthophoto = true;
   glm::dvec3 albedo{0.80, 0.80, 0.78};  // the neutral material (Lambert)
   // Hemisphere light (ambient): groundLight on a surface facing down, skyLight on one facing up,
   // mixed by (1 + n.up) / 2 in between.

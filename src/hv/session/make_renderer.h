@@ -14,8 +14,10 @@ namespace hv::app {
 // is now. Every renderer a command or the viewer builds for a scene comes from here (openSession;
 // the viewer's rebuilds after a setting read at construction or a photograph's pose changed). A
 // layers file that cannot be used is an error in `diag` (its path, why) and the photograph renders
-// as itself. Needs a current GL context.
+// as itself. `orthophoto` (hv::loadOrthophoto; Session::orthophoto): draped on untextured
+// terrain. Needs a current GL context.
 std::unique_ptr<render::Renderer> makeRenderer(const Scene& scene, const render::RenderSettings& settings,
-                                               Diagnostics& diag);
+                                               Diagnostics& diag,
+                                               std::shared_ptr<const Orthophoto> orthophoto = nullptr);
 
 }  // namespace hv::app

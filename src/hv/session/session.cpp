@@ -1,12 +1,13 @@
 #include "hv/session/session.h"
 
 #include "hv/io/cameras_json.h"
-#include "hv/scene/robust_extent.h"
-#include "hv/session/make_renderer.h"
-#include "hv/session/outputs.h"
+#include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/layers/native/layer_import.h"
 #include "hv/render/settings_schema.h"
+#include "hv/scene/robust_extent.h"
+#include "hv/session/make_renderer.h"
+#include "hv/session/outputs.h"
 #include "hv/util/log.h"
 
 #include <CLI/CLI.hpp>
@@ -308,6 +309,7 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
   const render::RenderSettings settings = renderSettings(o);  // bad option values fail before loading
   auto session = std::make_unique<Session>();
   session->scene = loadScene(o.scenePath, diag);
+  session->orthophoto = loadOrthophoto(session->scene, diag);
   checkPhotoDates(session->scene, diag);
   checkSessionInputs(session->scene, o, diag);
   if (!o.viewsPath.empty()) {
@@ -322,14 +324,15 @@ std::unique_ptr<Session> openSession(const ViewOptions& o, Diagnostics& diag,
     throw std::runtime_error("--strict: " + std::to_string(diag.errors.size()) +
                              " input item(s) would be left out (named above); nothing rendered");
   session->context = makeContext ? makeContext() : gpu::createHeadlessContext();
-  session->renderer = makeRenderer(session->scene, settings, diag);
+  session->renderer = makeRenderer(session->scene, settings, diag, session->orthophoto);
   return session;
 }
 
 std::unique_ptr<render::Renderer> makeRenderer(const Scene& scene, const render::RenderSettings& settings,
-                                               Diagnostics& diag) {
+                                               Diagnostics& diag, std::shared_ptr<const Orthophoto> orthophoto) {
   auto renderer = std::make_unique<render::Renderer>(scene, settings, diag);
   applyLayers(scene, *renderer, diag);
+  if (orthophoto) renderer->setOrthophoto(std::move(orthophoto));
   return renderer;
 }
 

@@ -77,6 +77,7 @@ Camera resizeView(const Camera& view, const std::string& size);
 
 struct Session {
   Scene scene;
+  std::shared_ptr<const Orthophoto> orthophoto;  // scene.json "orthophoto" (hv::loadOrthophoto); null: none
   std::vector<Photo> views;
   std::unique_ptr<gpu::Context> context;
   std::unique_ptr<render::Renderer> renderer;

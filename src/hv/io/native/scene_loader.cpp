@@ -15,6 +15,7 @@
 #include "hv/io/native/las_reader.h"
 #include "hv/io/native/mesh_reader.h"
 #include "hv/io/native/micmac_cameras.h"
+#include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/native/ply_points.h"
 #include "hv/io/native/points_tiles.h"
 #include "hv/io/native/raster.h"
@@ -23,6 +24,7 @@
 #include "hv/io/native/terrain_raster.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/native/lod1.h"
+#include "hv/scene/orthophoto.h"
 #include "hv/scene/point_normals.h"
 #include "hv/scene/robust_extent.h"
 #include "hv/scene/scene_scale.h"
@@ -331,14 +333,15 @@ void loadPointTilesetIntoScene(Scene& scene, const PointTilesetRequest& request,
 // with the nearest known key. "layers" is read by hv/layers/native/layer_import.h (readLayerFiles).
 void refuseUnknownKeys(const json& doc, const std::string& path) {
   static const std::vector<std::string> kTop = {"crs",    "origin",  "up",     "terrain", "buildings", "mesh",
-                                                "points", "cameras", "colour", "layers",  "traffic"};
+                                                "points", "cameras", "colour", "layers",  "traffic",   "orthophoto"};
   static const std::vector<std::pair<std::string, std::vector<std::string>>> kSources = {
       {"terrain", {"path", "crs", "height"}},
       {"buildings", {"path", "crs", "height", "base", "top", "valid_from", "valid_to"}},
       {"mesh", {"path", "crs"}},
       {"points", {"path", "tileset", "crs", "normals", "tolerance", "budget"}},
       {"cameras", {"path", "format", "crs", "images", "orientations", "calibration", "postgis", "table", "layer"}},
-      {"traffic", {"fcd", "csv", "crs", "offset", "models"}}};
+      {"traffic", {"fcd", "csv", "crs", "offset", "models"}},
+      {"orthophoto", {"path", "resolution", "crs"}}};
   std::vector<std::string> bad;
   for (const std::string& m : unknownKeys(doc, kTop)) bad.push_back(m);
   for (const auto& [source, keys] : kSources)
@@ -380,6 +383,41 @@ std::shared_ptr<const VehicleModels> loadVehicleModels(const json& m, const std:
     }
   }
   return models;
+}
+
+// scene.json "orthophoto" (docs/formats.md): read over the terrain's extent. Throws InputError
+// naming the path and the field; the caller leaves it out.
+std::shared_ptr<const Orthophoto> readSceneOrthophoto(const Scene& scene, const json& doc, const std::string& dir,
+                                                      const std::string& path, Diagnostics& diag) {
+  const json& o = doc["orthophoto"];
+  OrthophotoRequest r;
+  r.path = sourcePath(doc, "orthophoto", dir, path);
+  r.field = "orthophoto.path";
+  if (o.contains("resolution")) {
+    if (!o["resolution"].is_number() || !(o["resolution"].get<double>() > 0.0) ||
+        !std::isfinite(o["resolution"].get<double>()))
+      throw InputError(path + ": orthophoto.resolution: expected metres per pixel (a number > 0), got " +
+                       o["resolution"].dump());
+    r.resolution = o["resolution"].get<double>();
+  }
+  if (o.contains("crs")) {
+    if (!o["crs"].is_string() || o["crs"].get<std::string>().empty())
+      throw InputError(path + ": orthophoto.crs: expected a CRS string (\"EPSG:2154\", WKT, a PROJ string), got " +
+                       o["crs"].dump());
+    r.crs = o["crs"].get<std::string>();
+  }
+  r.sceneCrs = scene.crs;
+  const Aabb extent =
+      scene.terrainTiles ? scene.terrainTiles->tile(TerrainQuadtree::root()).bounds : scene.terrain.bounds();
+  if (extent.empty())
+    throw InputError(inputMessage(r.path, "orthophoto", "no terrain to drape it on (expected a terrain source)"));
+  r.minX = extent.lo.x, r.minY = extent.lo.y, r.maxX = extent.hi.x, r.maxY = extent.hi.y;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto ortho = std::make_shared<Orthophoto>(readOrthophoto(r, diag));
+  ortho->path = o["path"].get<std::string>();
+  log::debug("orthophoto: " + r.path + ": " +
+             std::to_string(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()) + " s");
+  return ortho;
 }
 
 // scene.json "traffic" (docs/traffic.md): SUMO FCD (`fcd`) or CSV (`csv`) trajectories; `offset`
@@ -693,6 +731,20 @@ void makeGroundPlane(Scene& scene, double height, const std::string& path, Diagn
 }  // namespace
 
 Scene loadScene(const std::string& path, Diagnostics& diag) { return loadScene(path, diag, SceneLoadOptions{}); }
+
+std::shared_ptr<const Orthophoto> loadOrthophoto(const Scene& scene, Diagnostics& diag) {
+  if (scene.path.empty()) return nullptr;
+  const std::string& path = scene.path;
+  const json doc = readJsonInput(path, "scene", diag);
+  if (!doc.is_object() || !doc.contains("orthophoto")) return nullptr;
+  const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+  try {
+    return readSceneOrthophoto(scene, doc, dir, path, diag);
+  } catch (const InputError& e) {
+    diag.warn(std::string(e.what()) + " (orthophoto left out: untextured terrain shaded)");
+    return nullptr;
+  }
+}
 
 Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptions& options) {
   enableRemoteReading();

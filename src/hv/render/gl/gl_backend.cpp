@@ -94,6 +94,23 @@ void GlBackend::uploadValidity(const std::vector<float>& validity, int width, in
   checkGlError("validity upload");
 }
 
+void GlBackend::uploadOrthophoto(const Orthophoto& o, const OrthophotoAffine& affine) {
+  orthophotoAffine_ = affine;
+  if (o.empty()) {
+    orthophoto_ = {};
+    return;
+  }
+  // Made on its own unit, so that no other unit's GL_TEXTURE_2D binding changes (the passes bind
+  // some textures once); the active unit restored.
+  GLint active = GL_TEXTURE0;
+  glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+  glActiveTexture(GL_TEXTURE0 + kUnitOrthophoto);
+  orthophoto_ = gpu::makeRgba8Image(o.width, o.height);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, o.rgba.data());
+  glActiveTexture(GLenum(active));
+  checkGlError("orthophoto upload");
+}
+
 void GlBackend::uploadStreamedTile(std::uint64_t id, const std::vector<float>& vertices,
                                   const std::vector<std::uint32_t>& indices) {
   StreamedTileBuffers t;

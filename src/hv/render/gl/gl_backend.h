@@ -36,7 +36,10 @@ enum Unit : GLint {
   kUnitViewBuilding = 6,
   kUnitValidity = 7,
   kUnitPointColor = 8,
-  kUnitPointParams = 9
+  kUnitPointParams = 9,
+  // The orthophoto (the array binding only: the naive binding's photographs take the units above
+  // kUnitValidity).
+  kUnitOrthophoto = 10
 };
 
 // Shading-pass modes (u_mode in shaders/ibr_shade.frag).
@@ -64,6 +67,7 @@ class GlBackend final : public Backend {
                          const std::vector<std::uint32_t>& indices) override;
   void releaseStreamedTile(std::uint64_t id) override { streamedTiles_.erase(id); }
   void uploadValidity(const std::vector<float>& validity, int width, int rows) override;
+  void uploadOrthophoto(const Orthophoto& orthophoto, const OrthophotoAffine& affine) override;
   PointProgramInfo uploadPoints(const std::vector<PointVertex>& points, const PointProgramRequest& req) override;
   void allocateSlots(const SlotLayout& layout) override;
   void uploadImage(int slot, const Image8& slice) override;
@@ -140,6 +144,8 @@ class GlBackend final : public Backend {
   int paramsRows_ = 0;
 
   gpu::Framebuffer depthFbo_, viewFbo_;
+  gpu::Texture orthophoto_;  // Scene::orthophoto, RGBA8, linear, clamped to its edges
+  OrthophotoAffine orthophotoAffine_;
   gpu::Texture viewDepth_, viewBuilding_, viewColor_, lookupTexture_, tileRange_, tileLists_;
   glm::ivec2 viewDepthSize_{0}, viewColorSize_{0}, tileRangeSize_{0};
   bool cullingThisFrame_ = false;

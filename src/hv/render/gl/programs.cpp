@@ -134,6 +134,10 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   sunLight = u.required("u_sunLight");
   horizon = u.required("u_horizon");
   zenith = u.required("u_zenith");
+  orthophotoOn = u.required("u_orthophotoOn");
+  orthophoto = u.required("u_orthophoto");
+  orthoU = u.required("u_orthoU");
+  orthoV = u.required("u_orthoV");
 }
 
 TileDepthProgram::TileDepthProgram(const ProgramSource& src) : program(linkProgram(src)) {

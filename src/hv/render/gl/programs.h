@@ -55,6 +55,8 @@ struct ShadeProgram {
   // shaders/untextured.glsl: where no photograph contributes.
   GLint shading = -1, sky = -1, up = -1, sunDir = -1, albedo = -1, skyLight = -1, groundLight = -1, sunLight = -1,
         horizon = -1, zenith = -1;
+  // The orthophoto on untextured terrain (ibr_shade.frag).
+  GLint orthophotoOn = -1, orthophoto = -1, orthoU = -1, orthoV = -1;
   // Picture quality (the array binding only; -1 in the naive one): weights, feathering, mipmaps,
   // the transient filter.
   GLint weighting = -1, resolutionWeight = -1, penaltyEpsilon = -1, viewFocal = -1, feather = -1, maskFeather = -1,

@@ -136,6 +136,14 @@ void GlBackend::bindShadeInputs(const Frame& f) {
   vec3(p.sunLight, u.sunLight);
   vec3(p.horizon, u.horizon);
   vec3(p.zenith, u.zenith);
+  // The orthophoto on untextured terrain: the array binding only (the naive one's photographs hold
+  // the units above kUnitValidity); the sampler otherwise points at a sampler2D unit never read.
+  const bool ortho = u.orthophoto && orthophoto_ && !naive();
+  if (ortho) gpu::bindUnit(kUnitOrthophoto, GL_TEXTURE_2D, orthophoto_.id());
+  glUniform1i(p.orthophoto, ortho ? kUnitOrthophoto : kUnitLookup);
+  glUniform1i(p.orthophotoOn, ortho ? 1 : 0);
+  vec3(p.orthoU, orthophotoAffine_.uRow);
+  vec3(p.orthoV, orthophotoAffine_.vRow);
 }
 
 }  // namespace hv::render::gl

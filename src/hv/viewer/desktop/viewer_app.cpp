@@ -462,7 +462,7 @@ class Viewer {
   void rebuildRenderer(const render::RenderSettings& s) {
     session_->renderer.reset();
     Diagnostics diag;
-    session_->renderer = app::makeRenderer(session_->scene, s, diag);
+    session_->renderer = app::makeRenderer(session_->scene, s, diag, session_->orthophoto);
     for (const auto& e : diag.errors) panel_.message = e;
     renderer_ = session_->renderer.get();
     settingsChanged_ = true;
