@@ -70,10 +70,13 @@ uniform float u_consensus;
 // The orthophoto draped on untextured terrain (Scene::orthophoto; de Castro & Brédif 2022's terrain
 // texture): straight RGBA, texture coordinates (dot(u_orthoU, (x, y, 1)), dot(u_orthoV, ...)) of
 // the render-frame point, hv::orthophotoAffine; its CPU twin is hv::sampleOrthophoto.
+// Not in the naive binding, whose sampler pairs take every texture unit the context has.
+#ifndef HV_NAIVE
 uniform bool u_orthophotoOn;
 uniform highp sampler2D u_orthophoto;
 uniform vec3 u_orthoU;
 uniform vec3 u_orthoV;
+#endif
 
 out vec4 o_color;
 
@@ -94,11 +97,13 @@ void writeBackground() {
 // as it is, over the shading (or the background) by its alpha.
 void writeUncovered(bool surface, vec3 ray, vec3 normal, vec3 P, bool terrain) {
   vec4 ortho = vec4(0.0);
+#ifndef HV_NAIVE
   if (u_mode == 0 && surface && terrain && u_orthophotoOn) {
     vec2 uv = vec2(dot(u_orthoU, vec3(P.xy, 1.0)), dot(u_orthoV, vec3(P.xy, 1.0)));
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0))))
       ortho = textureLod(u_orthophoto, uv, 0.0);
   }
+#endif
   if (u_mode == 0 && surface && u_shading) {
     o_color = vec4(hv_shadeUntextured(dot(normal, ray) > 0.0 ? -normal : normal), 0.0);
   } else if (u_mode == 0 && !surface && u_sky) {

@@ -8,48 +8,18 @@ Python's standard library only.
 Prints "PSNR X dB over N pixels" (X "inf" when identical there) and exits 0; exits 1 when
 fewer than N (default 1) pixels are compared, or the sizes differ."""
 import math
-import struct
+import os
 import sys
-import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from png_read import decode_png  # noqa: E402
 
 
 def read_png(path):
-    d = open(path, "rb").read()
-    if d[:8] != b"\x89PNG\r\n\x1a\n":
-        raise SystemExit(f"{path}: not a PNG")
-    pos, idat = 8, b""
-    while pos < len(d):
-        n, t = struct.unpack(">I4s", d[pos:pos + 8])
-        c = d[pos + 8:pos + 8 + n]
-        if t == b"IHDR":
-            w, h, depth, ctype = struct.unpack(">IIBB", c[:10])
-            if depth != 8 or ctype not in (2, 6):
-                raise SystemExit(f"{path}: expected 8-bit RGB or RGBA")
-        elif t == b"IDAT":
-            idat += c
-        pos += 12 + n
-    ch = 4 if ctype == 6 else 3
-    raw, stride = zlib.decompress(idat), w * ch
-    rows, prev, p = [], bytearray(stride), 0
-    for _ in range(h):
-        f, line = raw[p], bytearray(raw[p + 1:p + 1 + stride])
-        p += 1 + stride
-        for i in range(stride):
-            a = line[i - ch] if i >= ch else 0
-            b = prev[i]
-            c = prev[i - ch] if i >= ch else 0
-            if f == 1:
-                line[i] = (line[i] + a) & 255
-            elif f == 2:
-                line[i] = (line[i] + b) & 255
-            elif f == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        prev = line
-    return w, h, ch, rows
+    width, height, channels, rows = decode_png(path)
+    if channels not in (3, 4):
+        raise SystemExit(f"{path}: expected 8-bit RGB or RGBA")
+    return width, height, channels, rows
 
 
 def main():

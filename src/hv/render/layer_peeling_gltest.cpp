@@ -10,6 +10,7 @@
 #include "hv/layers/visibility_layers.h"
 #include "hv/render/testing/gl_test_support.h"
 #include "hv/scene/native/raycast.h"
+#include "hv/testing/box_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -18,19 +19,7 @@
 namespace hv::render {
 namespace {
 
-// A closed box, triangles counter-clockwise seen from outside (hv/scene/mesh.h), tagged `tag`.
-Mesh box(glm::dvec3 lo, glm::dvec3 hi, std::uint32_t tag) {
-  Mesh m;
-  for (int i = 0; i < 8; ++i)
-    m.positions.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
-  const unsigned quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    m.triangles.push_back({q[0], q[1], q[2]});
-    m.triangles.push_back({q[0], q[2], q[3]});
-  }
-  m.triangleTags.assign(m.triangles.size(), tag);
-  return m;
-}
+Mesh box(glm::dvec3 lo, glm::dvec3 hi, std::uint32_t tag) { return hv::testing::taggedBox(lo, hi, tag); }
 
 // Flat ground z = 0 over [-100, 100]^2, up-facing, in 16 x 16 quads (tiles of 50 m: 4 x 4 objects).
 Mesh ground() {

@@ -20,7 +20,8 @@
 #include <vector>
 
 namespace hv {
-struct Scene;  // hv/scene/scene.h
+struct Scene;       // hv/scene/scene.h
+struct Orthophoto;  // hv/scene/orthophoto.h
 }
 
 namespace hv::viewer {
@@ -131,6 +132,12 @@ struct MapOverview {
 // The overview of `scene`. `dated[i]`: photograph i has a date (PhotoDates::when[i]); empty: all
 // undated. `maxRaster`: the hillshade's longer side in cells.
 MapOverview mapOverview(const Scene& scene, const std::vector<bool>& dated, int maxRaster = 256);
+
+// The rectangle an orthophoto (scene.json "orthophoto") covers on the map, in plane coordinates,
+// the image's row 0 along its northern edge (hi.y); `origin` the scene's render origin. Only when
+// the map's plane is the scene frame's x, y (east (1, 0, 0), north (0, 1, 0): a scene whose up is
+// +z, as every scene with a CRS); none otherwise, and none for an empty orthophoto.
+std::optional<PlaneBox> orthophotoOnMap(const MapOverview& map, const Orthophoto& orthophoto, const glm::dvec3& origin);
 
 // The view on the map: its centre and the heading of its viewing direction (a unit vector in the
 // plane; 0 when looking straight up or down).

@@ -3,6 +3,7 @@
 // 255 (cos Z cos S + sin Z sin S cos(A - aspect))), the footprints of a prism, the dots and clicks.
 #include "hv/viewer/map_overview.h"
 
+#include "hv/scene/orthophoto.h"
 #include "hv/scene/scene.h"
 
 #include <gtest/gtest.h>
@@ -261,6 +262,32 @@ TEST(MapOverview, AnotherUpUsesThePlaneOrthogonalToIt) {
   // The terrain's heights are measured along -z.
   const glm::dvec3 g = m.groundAt(m.toPlane({30, 20, 0}));
   EXPECT_NEAR(g.z, 3.0, 1e-6);
+}
+
+
+// The orthophoto's rectangle on a z-up map is its scene-frame rectangle less the render origin
+// (hand-computed); a map whose plane is not x, y, and an empty orthophoto, get none.
+TEST(MapOverview, OrthophotoLiesOnItsSceneRectangle) {
+  Orthophoto o;
+  o.width = 10;
+  o.height = 5;
+  o.rgba.assign(10 * 5 * 4, 255);
+  o.minX = 651000.0;
+  o.maxX = 651100.0;
+  o.minY = 6862000.0;
+  o.maxY = 6862050.0;
+  MapOverview map;  // axes: up z, east x, north y
+  const auto box = orthophotoOnMap(map, o, {651020.0, 6862010.0, 35.0});
+  ASSERT_TRUE(box.has_value());
+  EXPECT_DOUBLE_EQ(box->lo.x, -20.0);
+  EXPECT_DOUBLE_EQ(box->lo.y, -10.0);
+  EXPECT_DOUBLE_EQ(box->hi.x, 80.0);
+  EXPECT_DOUBLE_EQ(box->hi.y, 40.0);
+
+  MapOverview flipped;
+  flipped.axes = upFrame({0.0, 0.0, -1.0});  // an SfM frame with up -z: its plane is not x, y
+  EXPECT_FALSE(orthophotoOnMap(flipped, o, glm::dvec3(0.0)).has_value());
+  EXPECT_FALSE(orthophotoOnMap(map, Orthophoto{}, glm::dvec3(0.0)).has_value());
 }
 
 }  // namespace

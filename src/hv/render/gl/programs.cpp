@@ -134,10 +134,10 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   sunLight = u.required("u_sunLight");
   horizon = u.required("u_horizon");
   zenith = u.required("u_zenith");
-  orthophotoOn = u.required("u_orthophotoOn");
-  orthophoto = u.required("u_orthophoto");
-  orthoU = u.required("u_orthoU");
-  orthoV = u.required("u_orthoV");
+  orthophotoOn = tiles("u_orthophotoOn");  // the array binding only (the shader's HV_NAIVE)
+  orthophoto = tiles("u_orthophoto");
+  orthoU = tiles("u_orthoU");
+  orthoV = tiles("u_orthoV");
 }
 
 TileDepthProgram::TileDepthProgram(const ProgramSource& src) : program(linkProgram(src)) {

@@ -6,10 +6,14 @@
 #include <array>
 #include <cstdint>
 #include <iostream>
+#include <utility>
 
 namespace hv::viewer {
 
-MapPanel::MapPanel(const Scene& scene, const std::vector<bool>& dated) : map_(mapOverview(scene, dated)) {}
+MapPanel::MapPanel(const Scene& scene, const std::vector<bool>& dated, std::shared_ptr<const Orthophoto> orthophoto)
+    : map_(mapOverview(scene, dated)), orthophoto_(std::move(orthophoto)) {
+  if (orthophoto_) orthophotoBox_ = orthophotoOnMap(map_, *orthophoto_, scene.origin);
+}
 
 MapPanel::Result MapPanel::draw(const Camera& view, int chosen) {
   Result result;
@@ -67,6 +71,17 @@ MapPanel::Result MapPanel::draw(const Camera& view, int chosen) {
     const PlaneBox& b = map_.terrain.box;
     dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(shade_.id())), at({b.lo.x, b.hi.y}),
                  at({b.hi.x, b.lo.y}));
+  }
+  // The orthophoto over it (uploaded at the first draw).
+  if (orthophotoBox_) {
+    if (!orthophotoTexture_.id()) {
+      Image8 rgba(orthophoto_->width, orthophoto_->height, 4);
+      rgba.data = orthophoto_->rgba;
+      orthophotoTexture_.upload(rgba);
+    }
+    const PlaneBox& b = *orthophotoBox_;
+    dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(orthophotoTexture_.id())),
+                 at({b.lo.x, b.hi.y}), at({b.hi.x, b.lo.y}));
   }
   // The footprints, filled, then their outlines.
   const auto& tri = map_.footprintTriangles;

@@ -1,5 +1,6 @@
 // The viewer's map (docs/viewer.md, key M): a window with the 2D overview of the scene
-// (hv/viewer/map_overview.h) — the terrain's hillshade, the buildings' footprints, every
+// (hv/viewer/map_overview.h) — the terrain's hillshade (under the scene's orthophoto where it has
+// one), the buildings' footprints, every
 // photograph as a dot with its viewing direction (dated ones orange, undated ones blue-grey), the
 // view's position and heading in red — drawn with Dear ImGui's draw list. The wheel zooms about
 // the pointer, a drag pans, "Whole map" goes back to the whole extent (MapZoom). A click (a release
@@ -7,10 +8,12 @@
 #pragma once
 
 #include "hv/gpu/present.h"
+#include "hv/scene/orthophoto.h"
 #include "hv/scene/scene.h"
 #include "hv/viewer/map_overview.h"
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -18,8 +21,9 @@ namespace hv::viewer {
 
 class MapPanel {
  public:
-  // `dated[i]`: photograph i has a date (the timeline's PhotoDates).
-  MapPanel(const Scene& scene, const std::vector<bool>& dated);
+  // `dated[i]`: photograph i has a date (the timeline's PhotoDates); `orthophoto` (null: none) is
+  // drawn over the hillshade (orthophotoOnMap).
+  MapPanel(const Scene& scene, const std::vector<bool>& dated, std::shared_ptr<const Orthophoto> orthophoto = nullptr);
 
   bool open() const { return open_; }
   void toggle() { open_ = !open_; }
@@ -39,6 +43,9 @@ class MapPanel {
   MapOverview map_;
   gpu::ImageTexture shade_;
   bool uploaded_ = false;
+  std::shared_ptr<const Orthophoto> orthophoto_;
+  std::optional<PlaneBox> orthophotoBox_;  // where it lies on the map; none: not drawn
+  gpu::ImageTexture orthophotoTexture_;
   bool open_ = false;
   bool printDots_ = false;
   MapZoom zoom_;

@@ -147,7 +147,7 @@ class Viewer {
     traffic_ = std::make_unique<TrafficPanel>(scene, rs);
     std::vector<bool> dated;
     for (const auto& d : timeline_->dates().when) dated.push_back(d.has_value());
-    map_ = std::make_unique<MapPanel>(scene, dated);
+    map_ = std::make_unique<MapPanel>(scene, dated, session_->orthophoto);
     if (o_.map) map_->toggle(), map_->printDots(true);
     if (o_.trafficRate > 0.0 && traffic_->present()) traffic_->play().rate = o_.trafficRate, traffic_->toggle(rs);
 
