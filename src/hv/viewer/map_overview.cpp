@@ -297,9 +297,11 @@ Camera viewOverGround(const Camera& view, const glm::dvec3& ground, const glm::d
   return c;
 }
 
-std::optional<PlaneBox> orthophotoOnMap(const MapOverview& map, const Orthophoto& orthophoto, const glm::dvec3& origin) {
+std::optional<PlaneBox> orthophotoOnMap(const MapOverview& map, const Orthophoto& orthophoto,
+                                        const glm::dvec3& origin) {
   if (orthophoto.empty()) return std::nullopt;
-  if (glm::length(map.axes.east - glm::dvec3(1, 0, 0)) > 1e-9 || glm::length(map.axes.north - glm::dvec3(0, 1, 0)) > 1e-9)
+  if (glm::length(map.axes.east - glm::dvec3(1, 0, 0)) > 1e-9 ||
+      glm::length(map.axes.north - glm::dvec3(0, 1, 0)) > 1e-9)
     return std::nullopt;
   return PlaneBox{{orthophoto.minX - origin.x, orthophoto.minY - origin.y},
                   {orthophoto.maxX - origin.x, orthophoto.maxY - origin.y}};

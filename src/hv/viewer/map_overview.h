@@ -22,7 +22,7 @@
 namespace hv {
 struct Scene;       // hv/scene/scene.h
 struct Orthophoto;  // hv/scene/orthophoto.h
-}
+}  // namespace hv
 
 namespace hv::viewer {
 

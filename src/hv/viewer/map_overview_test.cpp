@@ -264,7 +264,6 @@ TEST(MapOverview, AnotherUpUsesThePlaneOrthogonalToIt) {
   EXPECT_NEAR(g.z, 3.0, 1e-6);
 }
 
-
 // The orthophoto's rectangle on a z-up map is its scene-frame rectangle less the render origin
 // (hand-computed); a map whose plane is not x, y, and an empty orthophoto, get none.
 TEST(MapOverview, OrthophotoLiesOnItsSceneRectangle) {
