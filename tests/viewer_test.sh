@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # End-to-end test of the desktop viewer (ctest: `viewer`, labels "viewer" and "gl").
 #
-#   tests/viewer_test.sh path/to/histoview [scratch-dir]
+#   tests/viewer_test.sh path/to/histoview [scratch-dir] [part]
+#
+# part: picture, timeline, thennow or ui (the sections below, in that order), or all (the
+# default). ctest runs the four parts as four tests (viewer_picture, …), each on its own demo
+# city, so that they run side by side.
 #
 # Generates a small demo city, opens `histoview view` on it under Xvfb at a held-out view camera,
 # lets it converge (progressive frames until every selected image is resident with a current
@@ -19,9 +23,15 @@
 # Exits 77 (skipped) when xvfb-run or the viewer is not available, saying which.
 set -uo pipefail
 
-HV=${1:?usage: viewer_test.sh path/to/histoview [scratch-dir]}
+HV=${1:?usage: viewer_test.sh path/to/histoview [scratch-dir] [picture|timeline|thennow|ui|all]}
 HV=$(cd "$(dirname "$HV")" && pwd)/$(basename "$HV")
 DIR=${2:-$(mktemp -d "${TMPDIR:-/tmp}/hv-viewer-test.XXXXXX")}
+PART=${3:-all}
+case $PART in
+  picture | timeline | thennow | ui | all) ;;
+  *) echo "viewer_test.sh: unknown part '$PART' (expected picture, timeline, thennow, ui or all)"; exit 2 ;;
+esac
+part() { [[ $PART == all || $PART == "$1" ]]; }
 source "$(dirname "$0")/viewer_common.sh"
 
 # The held-out view, a window of its aspect ratio (320 pixels wide), and the photograph nearest to
@@ -35,62 +45,16 @@ print(c["id"], 320, round(320 * c["height"] / c["width"]), min(photos, key=d2)["
   "$city/views.json" "$city/cameras.json")
 size=${w}x${h}
 
-# The viewer: -screen gives Xvfb a 24-bit visual (its default depth is 8 bits per channel too,
-# but say it). --frames caps the run in case it never converges.
-xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
-  --size "$size" --screenshot "$DIR/viewer.png" --exit-after-converge --frames 400 --hide-panel \
-  --print-frame-times >"$DIR/view.out" 2>&1
-rc=$?
-if ((rc != 0)) || [[ ! -s $DIR/viewer.png ]]; then
-  echo "FAIL: histoview view exited with $rc (or wrote no screenshot); output:"
-  tail -30 "$DIR/view.out"
-  exit 1
-fi
-grep -E "converged after|wrote" "$DIR/view.out"
-
-"$HV" render "$city/scene.json" --views "$city/views.json" --size "$size" --out "$DIR/render" >"$DIR/render.out" 2>&1 ||
-  { echo "FAIL: histoview render"; cat "$DIR/render.out"; exit 1; }
-
-# PSNR over RGB between the two PNGs (a small decoder: Python's standard library has no PNG
-# reader). The viewer runs the same renderer on the same camera and, once converged, the same
-# images and depth maps, and the window shows the colour target through a same-size (nearest)
-# blit, so the pictures should be identical (PSNR infinite). The bound, 50 dB (RMS error below
-# one grey level in 255), leaves room only for a window framebuffer that would dither or convert
-# colours; a flipped, shifted, rescaled or partially converged picture scores far below it
-# (a one-row shift of the demo city is under 25 dB).
-cat >"$DIR/png.py" <<'EOF'
-import struct, zlib
-
-def read_png(path):
-    data = open(path, "rb").read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", path + ": not a PNG"
-    pos, idat, w = 8, b"", 0
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR":
-            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
-            assert depth == 8 and ctype in (2, 6) and interlace == 0, path + ": expected 8-bit RGB(A)"
-            ch = 3 if ctype == 2 else 4
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + n
-    raw, stride, rows, prev = zlib.decompress(idat), w * ch, [], bytearray(w * ch)
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - ch] if i >= ch else 0
-            b, c = prev[i], prev[i - ch] if i >= ch else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        prev = line
-    return w, h, ch, rows
+# PSNR over RGB between the two PNGs. The viewer runs the same renderer on the same camera and,
+# once converged, the same images and depth maps, and the window shows the colour target through
+# a same-size (nearest) blit, so the pictures should be identical (PSNR infinite). The bound,
+# 50 dB (RMS error below one grey level in 255), leaves room only for a window framebuffer that
+# would dither or convert colours; a flipped, shifted, rescaled or partially converged picture
+# scores far below it (a one-row shift of the demo city is under 25 dB). The PNG reader is the
+# services tests' (Python's standard library has none), under the name the scripts below import.
+cat >"$DIR/png.py" <<EOF
+import runpy
+read_png = runpy.run_path("$(cd "$(dirname "$0")" && pwd)/services/png_read.py")["decode_png"]
 EOF
 cat >"$DIR/compare.py" <<'EOF'
 import math, runpy, sys
@@ -128,6 +92,24 @@ if psnr < 50.0:
 print("ok")
 EOF
 compare() { python3 "$DIR/compare.py" "$@"; }
+
+if part picture; then
+# The viewer: -screen gives Xvfb a 24-bit visual (its default depth is 8 bits per channel too,
+# but say it). --frames caps the run in case it never converges.
+xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene.json" --views "$city/views.json" --camera "$id" \
+  --size "$size" --screenshot "$DIR/viewer.png" --exit-after-converge --frames 400 --hide-panel \
+  --print-frame-times >"$DIR/view.out" 2>&1
+rc=$?
+if ((rc != 0)) || [[ ! -s $DIR/viewer.png ]]; then
+  echo "FAIL: histoview view exited with $rc (or wrote no screenshot); output:"
+  tail -30 "$DIR/view.out"
+  exit 1
+fi
+grep -E "converged after|wrote" "$DIR/view.out"
+
+"$HV" render "$city/scene.json" --views "$city/views.json" --size "$size" --out "$DIR/render" >"$DIR/render.out" 2>&1 ||
+  { echo "FAIL: histoview render"; cat "$DIR/render.out"; exit 1; }
+
 compare "$DIR/viewer.png" "$DIR/render/$id.png" "$DIR" || exit 1
 
 # Debug views: the renderer draws them in place of the picture, so the viewer's screenshot of a
@@ -154,6 +136,9 @@ for debug in "weight:$photo --frusta" "depth:$photo"; do
   compare "$DIR/viewer-$name.png" "$DIR/render-$name/$id.$name-preview.png" "$DIR" || exit 1
 done
 
+fi
+
+if part timeline; then
 # The timeline (src/hv/viewer/timeline.h): --timeline sets the window at two positions along it
 # as dragging its handles does, the viewer prints the days and how many dated photographs the
 # window holds, and the picture is `render --from --to` of those days. The count is checked here
@@ -196,10 +181,19 @@ for positions in 1:1 0:0.5 0:1; do
     { echo "FAIL: histoview render --from $from --to $to"; cat "$DIR/render-$name.out"; exit 1; }
   compare "$DIR/viewer-$name.png" "$DIR/render-$name/$id.png" "$DIR" || exit 1
 done
+# The whole timeline is the picture without a window (the first part's render, made here when
+# this part runs alone).
+if [[ ! -s $DIR/render/$id.png ]]; then
+  "$HV" render "$city/scene.json" --views "$city/views.json" --size "$size" --out "$DIR/render" >"$DIR/render.out" 2>&1 ||
+    { echo "FAIL: histoview render"; cat "$DIR/render.out"; exit 1; }
+fi
 echo "an empty window is not the textured picture:"
-compare "$DIR/viewer-timeline-1-1.png" "$DIR/viewer.png" "$DIR" 0 "$w" differ || exit 1
-compare "$DIR/viewer-timeline-0-1.png" "$DIR/viewer.png" "$DIR" || exit 1
+compare "$DIR/viewer-timeline-1-1.png" "$DIR/render/$id.png" "$DIR" 0 "$w" differ || exit 1
+compare "$DIR/viewer-timeline-0-1.png" "$DIR/render/$id.png" "$DIR" || exit 1
 
+fi
+
+if part thennow; then
 # Then and now (src/hv/viewer/then_now.h) at the photograph nearest the view, the window its
 # size: at opacity 1 the photograph covers the window 1:1, so the screenshot is its PNG. With a
 # swipe line at 0.5 the columns left of the line (pixel centres below w / 2) are the photograph's,
@@ -247,6 +241,9 @@ EOF
 python3 "$DIR/blend.py" "$DIR/viewer-then-now-opacity-0.5.png" "$city/images/$photo.png" "$loo" 0.5 ||
   { echo "FAIL: then and now at opacity 0.5 is not that blend; images in $DIR"; exit 1; }
 
+fi
+
+if part ui; then
 # The control panel, whose render-settings widgets are made from the settings schema
 # (src/hv/viewer/desktop/settings_panel.cpp): drawn with its Blending, Points and Debug sections
 # open (--points, --debug), every frame until convergence, and in the screenshot. A widget that
@@ -279,6 +276,8 @@ if command -v xdotool >/dev/null; then
     win=$(xdotool search --name "^histoview" | head -1)
     [[ -n $win ]] && xdotool windowfocus "$win" 2>/dev/null
     for _ in 1 2 3; do xdotool keydown F2; sleep 0.012; xdotool keyup F2; sleep 0.8; done
+    # The taps are read in the frames that follow (seconds each on a loaded machine).
+    for _ in $(seq 300); do [[ -e histoview-screenshot-003.png ]] && break; sleep 0.2; done
     sleep 1
     kill "$pid" 2>/dev/null
     wait "$pid" 2>/dev/null
@@ -436,4 +435,5 @@ if grep -q '"traffic"' "$city/scene.json"; then
   echo "traffic played from 5 s at 10x for 8 frames: at $t s"
 else
   echo "(traffic play not tested: the demo city has no traffic, SUMO is not installed)"
+fi
 fi

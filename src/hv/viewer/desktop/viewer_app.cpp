@@ -235,7 +235,7 @@ class Viewer {
     if (keys_.pressed(GLFW_KEY_F)) debug.frusta = !debug.frusta, settingsChanged_ = true;
     if (keys_.pressed(GLFW_KEY_N) || keys_.pressed(GLFW_KEY_PAGE_DOWN)) stepPhoto(+1);
     if (keys_.pressed(GLFW_KEY_P) || keys_.pressed(GLFW_KEY_PAGE_UP)) stepPhoto(-1);
-    if (keys_.pressed(GLFW_KEY_F2)) screenshotRequested_ = true;
+    screenshotsRequested_ += keys_.presses(GLFW_KEY_F2);  // every tap a picture, several in one frame too
     if (keys_.pressed(GLFW_KEY_R)) toggleRecording();
     if (keys_.pressed(GLFW_KEY_T)) {
       if (thenNow_.on)
@@ -584,7 +584,7 @@ class Viewer {
       ImGui::InputText("png", panel_.screenshotName, sizeof panel_.screenshotName);
       ImGui::Checkbox("with the panel", &panel_.screenshotWithUi);
       ImGui::SameLine();
-      if (ImGui::Button("screenshot (F2)")) screenshotRequested_ = true;
+      if (ImGui::Button("screenshot (F2)")) ++screenshotsRequested_;
       ImGui::InputText("path", panel_.pathName, sizeof panel_.pathName);
       if (ImGui::Button(recording_ ? "stop recording (R)" : "record camera path (R)")) toggleRecording();
       if (recording_) {
@@ -614,10 +614,15 @@ class Viewer {
     std::cout << "wrote " << path << " (" << fb.x << "x" << fb.y << ")\n";
   }
 
-  // F2 and the panel's button: the next free name of the panel's series (shot.png gives
-  // shot-001.png, shot-002.png…; never one written before), its full path said in the panel.
+  // F2 and the panel's button: one picture per request, each under the next free name of the
+  // panel's series (shot.png gives shot-001.png, shot-002.png…; never one written before), the
+  // last one's full path said in the panel.
+  void writeRequestedScreenshots(glm::ivec2 fb) {
+    const int n = std::exchange(screenshotsRequested_, 0);
+    for (int i = 0; i < n; ++i) writeRequestedScreenshot(fb);
+  }
+
   void writeRequestedScreenshot(glm::ivec2 fb) {
-    screenshotRequested_ = false;
     std::string name;
     try {
       name = nextNumberedName(panel_.screenshotName, [](const std::string& n) {
@@ -726,12 +731,12 @@ class Viewer {
       if (finalShot && !o_.screenshotUi && !overlay) writeScreenshot(o_.screenshot, fb);
       if (finalShot && (o_.screenshotUi || overlay)) shotAfterUi = true;
       if (finalShot && !o_.screenshotUi && overlay) panelThisFrame = false;
-      bool requestedAfterUi = screenshotRequested_;
-      if (screenshotRequested_ && !panel_.screenshotWithUi) {
+      bool requestedAfterUi = screenshotsRequested_ > 0;
+      if (requestedAfterUi && !panel_.screenshotWithUi) {
         if (overlay)
           panelThisFrame = false;
         else
-          writeRequestedScreenshot(fb), requestedAfterUi = false;
+          writeRequestedScreenshots(fb), requestedAfterUi = false;
       }
       if (overlay) drawThenNow(fb);
       // The panel after the frame, so it shows this frame's state; what it changes applies next frame.
@@ -740,7 +745,7 @@ class Viewer {
       poseFrame();
       window_->endUi();
       if (shotAfterUi) writeScreenshot(o_.screenshot, fb);
-      if (requestedAfterUi) writeRequestedScreenshot(fb);
+      if (requestedAfterUi) writeRequestedScreenshots(fb);
       window_->swapBuffers();
 
       const double ms = msSince(t0);
@@ -753,7 +758,8 @@ class Viewer {
       if (o_.printFrameTimes)
         std::cout << "frame " << frame << ": " << std::fixed << std::setprecision(1) << ms << " ms (render "
                   << lastRenderMs_ << " ms, " << view.width << "x" << view.height << ", "
-                  << (converged ? "converged" : std::to_string(renderer_->stats().imagesWaiting) + " waiting") << ")\n";
+                  << (converged ? "converged" : std::to_string(renderer_->stats().imagesWaiting) + " waiting")
+                  << ")" << std::endl;  // flushed: read live by scripts waiting for frames
       if (frame % 15 == 0) {
         std::ostringstream title;
         title << "histoview - " << std::fixed << std::setprecision(1) << 1000.0 / std::max(smoothedMs_, 1e-3) << " fps";
@@ -808,7 +814,7 @@ class Viewer {
   ThenNowState thenNow_;
   bool showPanel_ = true;
   bool settingsChanged_ = false;
-  bool screenshotRequested_ = false;
+  int screenshotsRequested_ = 0;  // F2 taps and button clicks not yet written
   KeyEvents keys_;
   bool recording_ = false;
   Clock::time_point recordStart_;
