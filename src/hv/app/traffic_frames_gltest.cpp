@@ -26,14 +26,7 @@ Trajectory vehicle(const std::string& id, std::vector<TrajectorySample> samples)
   return t;
 }
 
-class TrafficFramesGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-};
+class TrafficFramesGlTest : public testing::GlTest {};
 
 TEST_F(TrafficFramesGlTest, FollowsTheVehicleThatDrivesThroughTheSequence) {
   Scene scene = testing::streetScene();

@@ -22,14 +22,7 @@ double psnr(const Image8& a, const Image8& b) {
   return eval::compareImages(a, b, std::vector<std::uint8_t>(std::size_t(a.width) * a.height, 1)).psnr;
 }
 
-class BuildingStreamGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-};
+class BuildingStreamGlTest : public testing::GlTest {};
 
 // The scene's buildings as an n x n grid of tiles over their ground extent, each building owned by
 // the cell of its first vertex (as the loader's tiles own theirs), read from memory on demand.

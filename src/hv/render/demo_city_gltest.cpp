@@ -20,14 +20,7 @@ namespace {
 using testing::DemoCity;
 using testing::demoCity;
 
-class DemoCityGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-};
+class DemoCityGlTest : public testing::GlTest {};
 
 // PSNR of each photograph rendered from its own camera with only itself (K = 1), over its valid
 // (unmasked) pixels that the render covers.

@@ -12,14 +12,7 @@ namespace {
 using testing::DemoCity;
 using testing::demoCity;
 
-class GeometryCullingGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-};
+class GeometryCullingGlTest : public testing::GlTest {};
 
 TEST_F(GeometryCullingGlTest, CulledFramesAndDepthMapsEqualTheWholeOnes) {
   const DemoCity& city = demoCity();

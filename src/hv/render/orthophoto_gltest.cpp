@@ -19,17 +19,9 @@
 namespace hv::render {
 namespace {
 
-using testing::glContext;
 using testing::kStreetOrigin;
 
-class OrthophotoGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
-};
+class OrthophotoGlTest : public testing::GlTest {};
 
 glm::dvec3 pixelColour(const Image8& img, int x, int y) {
   return glm::dvec3(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)) / 255.0;

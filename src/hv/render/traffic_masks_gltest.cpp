@@ -29,14 +29,7 @@ namespace {
 
 using testing::demoCity;
 
-class TrafficMasksGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-};
+class TrafficMasksGlTest : public testing::GlTest {};
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

@@ -19,17 +19,9 @@
 namespace hv::render {
 namespace {
 
-using testing::glContext;
 using testing::kStreetOrigin;
 
-class VehiclesGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
-};
+class VehiclesGlTest : public testing::GlTest {};
 
 // An id whose paint is far from grey, so that a vehicle pixel cannot pass for a shaded wall.
 std::string colourfulId(int start) {

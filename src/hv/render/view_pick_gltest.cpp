@@ -12,14 +12,7 @@
 namespace hv::render {
 namespace {
 
-class ViewPickGlTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-};
+class ViewPickGlTest : public testing::GlTest {};
 
 TEST_F(ViewPickGlTest, PickedPointIsTheRayCastOfTheDemoCity) {
   const testing::DemoCity& city = testing::demoCity();

@@ -30,6 +30,17 @@ inline gpu::Context& glContext() {
   return *ctx;
 }
 
+// The fixture of a GL test: the shared context current and GL errors cleared before it, none left
+// behind after it.
+class GlTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    glContext();
+    gpu::clearGlErrors();
+  }
+  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
+};
+
 // Directories made by makeTempDir, removed when the test process exits (a demo city or 4096
 // photographs per process would otherwise pile up in /tmp run after run).
 struct TempDirs {
