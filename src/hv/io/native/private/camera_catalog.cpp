@@ -700,7 +700,7 @@ CatalogCameras readOgrCameras(const std::string& source, const std::string& laye
   enableRemoteReading();
   gdal::QuietErrors quiet;
   gdal::requireOpenable(source, "cameras", false);
-  DatasetPtr ds(GDALDataset::Open(source.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  DatasetPtr ds(gdal::openVector(source));
   if (!ds) throw InputError(source + ": cameras: GDAL cannot open it: " + gdal::lastError("no reason given"));
   OGRLayer* layer = nullptr;
   if (layerName.empty()) {

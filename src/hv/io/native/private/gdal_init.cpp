@@ -2,12 +2,14 @@
 
 #include <cpl_conv.h>
 #include <gdal.h>
+#include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
 #include "hv/io/native/remote.h"
 #include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
 
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <system_error>
@@ -33,6 +35,14 @@ void requireOpenable(const std::string& path, const std::string& what, bool allo
     if (path.find('\0') == std::string::npos && std::filesystem::is_directory(path, ec)) return;
   }
   requireRegularFile(path, what);
+}
+
+GDALDataset* openVector(const std::string& path) {
+  auto startsWith = [&](const char* prefix) { return EQUALN(path.c_str(), prefix, std::strlen(prefix)); };
+  const std::string pageSize = "PAGE_SIZE=" + std::to_string(kOapifPageSize);
+  const char* const oapif[] = {pageSize.c_str(), nullptr};
+  const bool isOapif = startsWith("OAPIF:") || startsWith("WFS3:");
+  return GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, isOapif ? oapif : nullptr);
 }
 
 std::string lastError(const std::string& fallback) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+class GDALDataset;
 class OGRSpatialReference;
 
 namespace hv::gdal {
@@ -31,6 +32,14 @@ class QuietErrors {
 // GDAL's open forever and a device would be read without end. GDAL's virtual paths ("/vsizip/",
 // "/vsicurl/") are left to GDAL.
 void requireOpenable(const std::string& path, const std::string& what, bool allowDirectory);
+
+// Opens `path` as a vector source, read-only (nullptr when GDAL cannot; lastError says why), with
+// the open options histoview gives services: an OGC API - Features source ("OAPIF:…") is read
+// kOapifPageSize features a request instead of GDAL 3.6's 10 (the standard's default limit), so
+// that a tile of a city is one request or a few, not one per ten buildings. A server whose limit
+// is lower answers with fewer and a link to the next page, which GDAL follows.
+GDALDataset* openVector(const std::string& path);
+inline constexpr int kOapifPageSize = 1000;
 
 // GDAL's last error message on this thread, or `fallback` when it left none.
 std::string lastError(const std::string& fallback);

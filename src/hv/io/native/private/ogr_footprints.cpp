@@ -365,7 +365,7 @@ GeoreferencedFootprints readFootprints(const std::string& path, const FootprintF
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
   gdal::requireOpenable(path, "footprints", true);
-  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  DatasetPtr ds(gdal::openVector(path));
   if (!ds)
     throw InputError(inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
 
@@ -391,7 +391,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
   gdal::requireOpenable(path, "footprints", true);
-  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  DatasetPtr ds(gdal::openVector(path));
   if (!ds)
     throw InputError(inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
 
