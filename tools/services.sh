@@ -6,14 +6,16 @@
 #   tools/services.sh status DIR        the state folder and whether lighttpd runs
 #
 # DIR is a folder written by `histoview demo` (dtm.tif; buildings.geojson or buildings.gpkg;
-# cameras.json). lighttpd listens on 127.0.0.1:PORT and runs MapServer's `mapserv` as a CGI
+# cameras.json). lighttpd listens on 127.0.0.1:PORT and runs MapServer's `mapserv` as a FastCGI
 # program with a mapfile generated for DIR:
-#   WCS 1.0 / 2.0 and WMS   the DTM, layer (coverage) "dtm"
+#   WCS 1.0 / 2.0 and WMS   the DTM, layer (coverage) "dtm" (float32 GeoTIFF; ESRI ASCII grid with
+#                           FORMAT=text/plain, for the browser page)
 #   WFS 2.0                 the footprints, type name "buildings" (GML or GeoJSON)
 #   OGC API - Features      the footprints, collection "buildings"
 #   WFS 2.0                 the photographs' cameras, type name "cameras", when DIR has
 #                           cameras.gpkg (histoview cameras export --ogr; docs/formats.md)
-#   static files            DIR itself under /files/ (cameras.json, the photographs)
+#   static files            DIR itself under /files/ (cameras.json, the photographs, a web export
+#                           and its page)
 #   IIIF Image API 2        the tiled pyramidal TIFFs of DIR/iiif/ under /iiif?IIIF=NAME.tif/...
 #                           (iipsrv, Debian's iipimage-server, through FastCGI), when DIR has
 #                           an iiif/ folder and iipsrv is installed
@@ -174,6 +176,14 @@ MAP
     IMAGEMODE FLOAT32
     EXTENSION "tif"
   END
+  OUTPUTFORMAT
+    NAME "AAIGrid"
+    DRIVER "GDAL/AAIGrid"
+    MIMETYPE "text/plain"
+    IMAGEMODE FLOAT32
+    EXTENSION "asc"
+    FORMATOPTION "SIGNIFICANT_DIGITS=9"
+  END
   WEB
     METADATA
       "ows_title" "histoview demo city"
@@ -205,7 +215,7 @@ MAP
       "wcs_label" "dtm"
       "wcs_rangeset_name" "elevation"
       "wcs_rangeset_label" "elevation (m)"
-      "wcs_formats" "GTiff32"
+      "wcs_formats" "GTiff32 AAIGrid"
       "wcs_nativeformat" "GTiff32"
       "wcs_bandcount" "1"
       "wcs_imagemode" "FLOAT32"
@@ -331,7 +341,9 @@ server.modules = ("mod_alias", "mod_setenv", "mod_cgi", "mod_fastcgi", "mod_acce
 accesslog.filename = "$STATE/access.log"
 server.max-worker = 0
 mimetype.assign = (".json" => "application/json", ".png" => "image/png", ".jpg" => "image/jpeg",
-                   ".tif" => "image/tiff", ".geojson" => "application/geo+json", "" => "application/octet-stream")
+                   ".tif" => "image/tiff", ".geojson" => "application/geo+json",
+                   ".html" => "text/html", ".js" => "text/javascript", ".css" => "text/css",
+                   ".wasm" => "application/wasm", "" => "application/octet-stream")
 alias.url = ("/files/" => "$DIR/")
 # MapServer as a FastCGI program (two processes that stay up): a CGI program would start, read its
 # configuration and open the data anew on every request, about 0.1 s each on a quiet machine and a

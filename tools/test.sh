@@ -10,7 +10,8 @@
 #   web-build   the browser version: tools/web-build.sh (emcmake, emcc through ccache) into build-web/
 #   web-npm     playwright-core into tests/web/node_modules (npm ci from the committed
 #               package-lock.json; it drives Debian's Chromium and never downloads a browser)
-#   web         the browser test by name, `ctest -R '^web$'` (tests/web_test.sh, headless Chromium)
+#   web         the browser tests by name, `ctest -R '^web(_services)?$'` (tests/web_test.sh, headless Chromium;
+#               tests/web_services_test.sh, the page reading the local service stack)
 #   asan-build  build-asan/ as tools/sanitize.sh makes it (ASan + UBSan, Debug): the test binaries
 #   asan-cpu    the CPU tests under ASan + UBSan + LSan (hv_tests, one process)
 #   asan-fuzz   the fuzz corpus replays under the sanitizers
@@ -112,7 +113,7 @@ web_npm() {
 web_test() {
   local log=build/web-ctest.log
   # HV_WEB_PREPARE: built and installed just above; the test brings the build up to date itself.
-  HV_WEB_PREPARE=1 ctest_build -R '^web$' --no-tests=error 2>&1 | tee "$log"
+  HV_WEB_PREPARE=1 ctest_build -R '^web(_services)?$' --no-tests=error 2>&1 | tee "$log"
   if grep -q 'Skipped' "$log"; then
     case ${CI:-} in
       1 | true | TRUE | True | yes) echo "the browser test skipped in CI"; return 1 ;;
@@ -163,7 +164,7 @@ step colmap colmap_model
 # Where the real data is present, the tests that read it must find it: a skip there would hide a
 # broken path (hv::testing::dataRequired).
 if [[ -d ${HISTOVIEW_DATA:-../shared/data} ]]; then export HISTOVIEW_REQUIRE_DATA=${HISTOVIEW_REQUIRE_DATA:-1}; fi
-step tests ctest_build -E '^web$'
+step tests ctest_build -E '^web(_services)?$'
 step web-build bash tools/web-build.sh
 step web-npm web_npm
 step web web_test

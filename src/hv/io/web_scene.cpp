@@ -1,6 +1,7 @@
 #include "hv/io/web_scene.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/geojson_footprints.h"
 #include "hv/scene/chunks.h"
 #include "hv/traffic/trajectories.h"
 #include "hv/traffic/vehicle_model.h"
@@ -191,6 +192,47 @@ void appendValue(std::string& out, T v) {
 }
 
 std::int16_t snorm16(float v) { return std::int16_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)); }
+
+// The manifest's "buildings" (web_scene.h): GeoJSON pages fetched from a service, extruded here
+// as the native loader extrudes footprints (hv/scene/footprint.h), on the DTM fetched beside them.
+void readServiceBuildings(const json& b, const fs::path& dir, Scene& scene, Diagnostics& diag) {
+  if (!b.is_object() || !b.contains("geojson") || !b["geojson"].is_array())
+    throw InputError("expected {\"geojson\": [\"page.json\", ...], \"height\": \"height\", \"dtm\": \"dtm.asc\"}");
+  GeoJsonFootprintFields fields;
+  auto text = [&](const char* key) -> std::optional<std::string> {
+    if (!b.contains(key)) return std::nullopt;
+    if (!b[key].is_string()) throw InputError(std::string(key) + ": expected the name of an attribute");
+    return b[key].get<std::string>();
+  };
+  if (auto h = text("height")) fields.height = *h;
+  fields.base = text("base");
+  fields.top = text("top");
+  fields.validFrom = text("validFrom");
+  fields.validTo = text("validTo");
+  Heightfield dtm;
+  if (b.contains("dtm")) {
+    if (!b["dtm"].is_string()) throw InputError("dtm: expected the name of a file (an ESRI ASCII grid)");
+    const fs::path file = dir / b["dtm"].get<std::string>();
+    dtm = parseAaiGrid(readFileBytes(file), file.string());
+  }
+  std::vector<Footprint> footprints;
+  std::string source;
+  for (const json& page : b["geojson"]) {
+    if (!page.is_string()) throw InputError("geojson: expected the names of files");
+    const fs::path file = dir / page.get<std::string>();
+    if (source.empty()) source = file.string();
+    GeoJsonFootprintPage p = parseGeoJsonFootprints(readFileBytes(file), fields, file.string(), diag);
+    for (Footprint& f : p.footprints) footprints.push_back(std::move(f));
+  }
+  scene.buildings = buildLod1With(footprints, dtm.empty() ? nullptr : &dtm, diag, extrudeLod1EarClip);
+  scene.buildingValidity = footprintValidity(footprints, fields.validFrom.value_or("valid_from"),
+                                             fields.validTo.value_or("valid_to"), source, diag);
+  log::debug("buildings: " + std::to_string(footprints.size()) + " footprints from " +
+             std::to_string(b["geojson"].size()) + " GeoJSON pages, " +
+             std::to_string(scene.buildings.triangles.size()) + " triangles" +
+             (dtm.empty() ? std::string()
+                          : ", bases on a " + std::to_string(dtm.cols) + "x" + std::to_string(dtm.rows) + " DTM"));
+}
 
 }  // namespace
 
@@ -406,6 +448,13 @@ Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& optio
                          m.at("triangles").get<std::size_t>(), m.value("tags", false));
     } catch (const std::exception& e) {
       diag.error(manifestPath + ": mesh '" + name + "': " + e.what());
+    }
+  }
+  if (j.contains("buildings")) {
+    try {
+      readServiceBuildings(j["buildings"], dir, scene, diag);
+    } catch (const std::exception& e) {
+      diag.error(manifestPath + ": buildings: " + e.what() + " (buildings left out)");
     }
   }
   if (j.contains("points")) {

@@ -11,7 +11,14 @@
 //                    "points": {"path": "points.bin", "count": N, "bytes": B},  (optional)
 //                    "traffic": {"csv": "traffic.csv", "models": "vehicles.json",  (optional)
 //                                "vehicles": V, "begin": t0, "end": t1},
-//                    "cameras": "cameras.json"}
+//                    "cameras": "cameras.json",
+//                    "buildings": {"geojson": ["buildings-0.json", ...], "height": "height",  (optional)
+//                                  "base", "top", "validFrom", "validTo": attribute names (optional),
+//                                  "dtm": "dtm.asc"}}
+//                   "buildings" is not written by web-export: the page writes it when it fetched
+//                   the footprints from a service (web/histoview.js, `?scene=`): GeoJSON pages in
+//                   the scene's CRS, extruded by the portable LOD1 code (hv/scene/footprint.h) on
+//                   the ESRI ASCII grid `dtm` (a WCS answer), replacing any "buildings" mesh.
 //   NAME.bin        V*3 float32 positions relative to `origin` (render frame), then T*3 uint32
 //                   indices, then (when "tags") T uint32 triangle tags; little-endian, no header.
 //   points.bin      the point cloud (scene.points, in the scene frame, normals as loaded), below.

@@ -14,22 +14,8 @@ BuildingTileData extrudeFootprintTile(const std::vector<Footprint>& footprints, 
                                       const FootprintFields& fields, const std::string& path, Diagnostics& diag) {
   BuildingTileData out;
   out.mesh = buildLod1(footprints, dtm, diag);
-  out.validity.reserve(footprints.size());
-  for (const Footprint& f : footprints) {
-    DateInterval valid;  // open-ended unless the attributes say otherwise
-    auto bound = [&](const std::optional<std::string>& text, const std::string& field, bool from) {
-      if (!text || text->empty()) return;
-      if (const auto d = parseDate(*text)) {
-        (from ? valid.first : valid.last) = from ? d->first : d->last;
-      } else {
-        diag.warn(path + ": footprint " + f.id + ": " + field + ": expected an ISO 8601 date, got '" + *text +
-                  "' (ignored)");
-      }
-    };
-    bound(f.validFrom, fields.validFrom.value_or("valid_from"), true);
-    bound(f.validTo, fields.validTo.value_or("valid_to"), false);
-    out.validity.push_back(valid);
-  }
+  out.validity = footprintValidity(footprints, fields.validFrom.value_or("valid_from"),
+                                   fields.validTo.value_or("valid_to"), path, diag);
   return out;
 }
 

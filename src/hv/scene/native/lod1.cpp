@@ -13,10 +13,6 @@ namespace hv {
 
 namespace {
 
-std::string footprintMessage(const Footprint& fp, const std::string& message) {
-  return inputMessage("footprint " + (fp.id.empty() ? std::string("<no id>") : fp.id), "", message);
-}
-
 // Twice the signed area (shoelace formula): positive for a counter-clockwise ring.
 double twiceSignedArea(const std::vector<glm::dvec2>& ring) {
   double a = 0.0;
@@ -53,16 +49,6 @@ struct GeomDeleter {
   void operator()(GEOSGeometry* g) const { GEOSGeom_destroy_r(handle, g); }
 };
 using GeomPtr = std::unique_ptr<GEOSGeometry, GeomDeleter>;
-
-// Ring without consecutive repeats and without a closing repeat of the first point.
-std::vector<glm::dvec2> cleanRing(const std::vector<glm::dvec2>& ring) {
-  std::vector<glm::dvec2> out;
-  out.reserve(ring.size());
-  for (const auto& p : ring)
-    if (out.empty() || p != out.back()) out.push_back(p);
-  while (out.size() > 1 && out.front() == out.back()) out.pop_back();
-  return out;
-}
 
 GEOSGeometry* makeLinearRing(const GeosContext& ctx, const std::vector<glm::dvec2>& ring) {
   GEOSCoordSequence* seq = GEOSCoordSeq_create_r(ctx.get(), unsigned(ring.size() + 1), 2);
@@ -138,21 +124,7 @@ Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ) {
     throw InputError(footprintMessage(footprint, "roof elevation " + std::to_string(topZ) +
                                                      " is not above the base elevation " +
                                                      std::to_string(baseZ)));
-  if (footprint.rings.empty()) throw InputError(footprintMessage(footprint, "no outer ring"));
-
-  std::vector<std::vector<glm::dvec2>> rings;
-  for (size_t r = 0; r < footprint.rings.size(); ++r) {
-    std::vector<glm::dvec2> ring = cleanRing(footprint.rings[r]);
-    for (const auto& p : ring)
-      if (!std::isfinite(p.x) || !std::isfinite(p.y))
-        throw InputError(
-            footprintMessage(footprint, "ring " + std::to_string(r) + " has a non-finite coordinate"));
-    if (ring.size() < 3)
-      throw InputError(footprintMessage(footprint, "ring " + std::to_string(r) + " has " +
-                                                       std::to_string(ring.size()) +
-                                                       " distinct points, expected at least 3"));
-    rings.push_back(std::move(ring));
-  }
+  std::vector<std::vector<glm::dvec2>> rings = cleanFootprintRings(footprint);
 
   const GeosContext ctx;
   const GeomPtr polygon = makePolygon(ctx, rings);
@@ -164,52 +136,17 @@ Mesh extrudeLod1(const Footprint& footprint, double baseZ, double topZ) {
     if (reason) GEOSFree_r(ctx.get(), reason);
     throw InputError(footprintMessage(footprint, "invalid polygon: " + why));
   }
+  // Oriented after GEOS so that a bow-tie (whose signed area may cancel) is reported as such.
+  orientFootprintRings(footprint, rings);
 
-  // Checked after GEOS so that a bow-tie (whose signed area may cancel) is reported as such.
-  for (size_t r = 0; r < rings.size(); ++r) {
-    auto& ring = rings[r];
-    const double area2 = twiceSignedArea(ring);
-    if (area2 == 0.0)
-      throw InputError(footprintMessage(footprint, "ring " + std::to_string(r) + " has zero area"));
-    // Outer ring counter-clockwise, holes clockwise seen from above: the solid is then always on
-    // the left of each directed edge, so every wall faces right (outwards) by the same rule.
-    const bool wantCcw = r == 0;
-    if ((area2 > 0.0) != wantCcw) std::reverse(ring.begin(), ring.end());
-  }
-
-  // Vertex k of the concatenated rings is 2k at the base and 2k + 1 at the roof.
-  Mesh mesh;
+  // The roof's corners as ring vertices (k of the concatenated rings): the roof's border edges are
+  // exactly the ring edges.
   std::map<std::pair<double, double>, std::uint32_t> ringVertex;
+  std::uint32_t k = 0;
   for (const auto& ring : rings)
-    for (const auto& p : ring) {
-      const auto k = std::uint32_t(mesh.positions.size() / 2);
-      ringVertex.emplace(std::make_pair(p.x, p.y), k);
-      mesh.positions.emplace_back(p.x, p.y, baseZ);
-      mesh.positions.emplace_back(p.x, p.y, topZ);
-    }
-
-  // Roof and floor: every triangle corner is a ring vertex, so the roof's border edges are exactly
-  // the ring edges.
+    for (const auto& p : ring) ringVertex.emplace(std::make_pair(p.x, p.y), k++);
   const auto roofFail = [&](const std::string& why) { return InputError(footprintMessage(footprint, "roof " + why)); };
-  for (const glm::uvec3& c : constrainedDelaunay(ctx, polygon.get(), ringVertex, roofFail)) {
-    // Roof counter-clockwise from above (up-facing), floor the other way (down-facing).
-    mesh.triangles.emplace_back(2 * c[0] + 1, 2 * c[1] + 1, 2 * c[2] + 1);
-    mesh.triangles.emplace_back(2 * c[0], 2 * c[2], 2 * c[1]);
-  }
-
-  // Walls: one quad per ring edge p -> q. The solid lies left of the edge, so the quad
-  // (p base, q base, q roof, p roof) is counter-clockwise seen from the right, i.e. from outside.
-  std::uint32_t first = 0;
-  for (const auto& ring : rings) {
-    const auto n = std::uint32_t(ring.size());
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const std::uint32_t p = first + k, q = first + (k + 1) % n;
-      mesh.triangles.emplace_back(2 * p, 2 * q, 2 * q + 1);
-      mesh.triangles.emplace_back(2 * p, 2 * q + 1, 2 * p + 1);
-    }
-    first += n;
-  }
-  return mesh;
+  return extrudePrism(rings, constrainedDelaunay(ctx, polygon.get(), ringVertex, roofFail), baseZ, topZ);
 }
 
 std::vector<glm::uvec3> triangulatePolygon(const std::vector<std::vector<glm::dvec2>>& rings, const std::string& what) {
@@ -241,40 +178,7 @@ std::vector<glm::uvec3> triangulatePolygon(const std::vector<std::vector<glm::dv
 }
 
 Mesh buildLod1(const std::vector<Footprint>& footprints, const Heightfield* terrain, Diagnostics& diag) {
-  Mesh all;
-  for (size_t index = 0; index < footprints.size(); ++index) {
-    const Footprint& fp = footprints[index];
-    double baseZ = 0.0;
-    if (fp.base) {
-      baseZ = *fp.base;
-    } else if (terrain && !terrain->empty() && !fp.rings.empty()) {
-      if (const auto ground = terrain->minUnder(fp.rings[0]))
-        baseZ = *ground;
-      else
-        diag.warn(footprintMessage(fp, "no terrain elevation under the footprint; base set to 0"));
-    } else {
-      diag.warn(footprintMessage(fp, "no base elevation and no terrain; base set to 0"));
-    }
-
-    double topZ = 0.0;
-    if (fp.top) {
-      topZ = *fp.top;
-    } else if (fp.height) {
-      topZ = baseZ + *fp.height;
-    } else {
-      diag.warn(footprintMessage(fp, "neither a height nor a roof elevation; skipped"));
-      continue;
-    }
-
-    try {
-      Mesh building = extrudeLod1(fp, baseZ, topZ);
-      building.triangleTags.assign(building.triangles.size(), std::uint32_t(index));
-      all.append(building);
-    } catch (const InputError& e) {
-      diag.warn(std::string(e.what()) + "; skipped");
-    }
-  }
-  return all;
+  return buildLod1With(footprints, terrain, diag, extrudeLod1);
 }
 
 }  // namespace hv

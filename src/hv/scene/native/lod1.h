@@ -1,8 +1,11 @@
 // LOD1 buildings: 2D footprints extruded into vertical walls and a flat roof.
 // Roofs are triangulated with their holes by GEOS's constrained Delaunay triangulation
-// (no hand-written triangulator). GEOS is only used inside lod1.cpp.
+// (no hand-written triangulator). GEOS is only used inside lod1.cpp. The rest of the extrusion
+// (rings, walls, base and roof elevations) is the portable hv/scene/footprint.h, which the
+// browser build uses with its own roof triangulation.
 #pragma once
 
+#include "hv/scene/footprint.h"
 #include "hv/scene/heightfield.h"
 #include "hv/scene/mesh.h"
 #include "hv/util/diagnostics.h"
@@ -14,15 +17,6 @@
 #include <vector>
 
 namespace hv {
-
-struct Footprint {
-  std::string id;                                // feature id, for messages
-  std::vector<std::vector<glm::dvec2>> rings;    // rings[0] outer, the rest holes; not closed (no repeated first point)
-  std::optional<double> height;                  // metres above the base
-  std::optional<double> base;                    // absolute elevation of the base
-  std::optional<double> top;                     // absolute elevation of the roof
-  std::optional<std::string> validFrom, validTo; // ISO dates (time filtering, later)
-};
 
 // Closed, outward-oriented prism: floor (down-facing), roof (up-facing), walls. The floor is
 // included so the mesh is closed (volumes check out); it costs little and is never seen.

@@ -213,3 +213,34 @@ TEST(Lod1, BuildWithoutTerrainWarnsAndUsesZero) {
 
 }  // namespace
 }  // namespace hv
+
+namespace hv {
+namespace {
+
+// The browser's extrusion (hv/scene/footprint.h: ear clipping for the roof) and the native one
+// (GEOS's constrained Delaunay roof) of the same footprint with a hole: the same vertices in the
+// same order, the same walls, roofs of the same area.
+TEST(Lod1, EarClipExtrusionMatchesGeos) {
+  Footprint fp;
+  fp.id = "h";
+  fp.rings = {{{0, 0}, {10, 0}, {10, 6}, {6, 6}, {6, 10}, {0, 10}}, {{2, 2}, {4, 2}, {4, 4}, {2, 4}}};
+  const Mesh geos = extrudeLod1(fp, 1.0, 9.0), ear = extrudeLod1EarClip(fp, 1.0, 9.0);
+  EXPECT_EQ(geos.positions, ear.positions);
+  ASSERT_EQ(geos.triangles.size(), ear.triangles.size());
+  auto roofArea = [](const Mesh& m) {
+    double a = 0.0;
+    for (const auto& t : m.triangles) {
+      const glm::dvec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+      if (n.z > 0.0 && m.positions[t.x].z == 9.0) a += 0.5 * n.z;
+    }
+    return a;
+  };
+  EXPECT_NEAR(roofArea(geos), 100.0 - 16.0 - 4.0, 1e-9);
+  EXPECT_NEAR(roofArea(ear), roofArea(geos), 1e-9);
+  // The walls: the last 2 x (6 + 4) triangles, the same in both.
+  const std::size_t walls = 2 * 10;
+  EXPECT_TRUE(std::equal(geos.triangles.end() - walls, geos.triangles.end(), ear.triangles.end() - walls));
+}
+
+}  // namespace
+}  // namespace hv
