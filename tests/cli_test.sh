@@ -281,6 +281,8 @@ layer_id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["came
 run layers layers export "$city/scene.json" --image "$layer_id" "$DIR/layers.ora" --size 160x120
 expect_rc "layers export" 0
 expect_out "layers export" "[0-9]+ visibility layers, [0-9]+ image layers"
+# The cycles met and how they were split (faces, triangles, pixel level) are counted.
+expect_out "layers export" "[0-9]+ cycles \([0-9]+ objects split into faces, [0-9]+ faces into triangles, [0-9]+ broken at pixel level\)"
 check "layers export: an OpenRaster file" python3 - "$DIR/layers.ora" <<'PY'
 import re, sys, zipfile, xml.etree.ElementTree as ET
 z = zipfile.ZipFile(sys.argv[1])

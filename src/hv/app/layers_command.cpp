@@ -121,17 +121,30 @@ int runLayersExport(const LayersExportOptions& o) {
   }
   for (const auto& w : diag.warnings) std::cerr << "warning: " << w << "\n";
   for (const auto& e : diag.errors) std::cerr << "error: " << e << "\n";
-  for (const auto& c : ex.cycleNames)
-    std::cerr << "note: visibility cycle (each hides part of the next): " << c
-              << "; split at pixel level (docs/layers.md)\n";
+  // The cycles met (docs/layers.md, "Cycles"): split into faces or triangles, which orders them;
+  // those triangles cannot order are broken at pixel level, a warning (the exit status stays).
+  for (std::size_t i = 0; i < ex.visibility.splits.size(); ++i) {
+    const layers::CycleSplit& c = ex.visibility.splits[i];
+    const char* what = c.into == layers::CycleSplit::Into::Faces       ? "split into faces"
+                       : c.into == layers::CycleSplit::Into::Triangles ? "split into triangles"
+                                                                       : "broken at pixel level";
+    std::cerr << (c.into == layers::CycleSplit::Into::Pixels ? "warning: camera '" + o.image + "': " : "note: ")
+              << "visibility cycle before layer " << c.beforeLayer
+              << " (each hides part of the next): " << ex.cycleNames[i] << "; " << c.items << " "
+              << (c.into == layers::CycleSplit::Into::Faces       ? "objects"
+                  : c.into == layers::CycleSplit::Into::Triangles ? "faces"
+                                                                  : "triangles (or objects without faces)")
+              << " " << what << " (docs/layers.md)\n";
+  }
   std::ostringstream m;
   m << std::fixed << std::setprecision(2);
   m << "layers: camera '" << o.image << "' at " << ex.camera.width << "x" << ex.camera.height << ": "
     << ex.visibility.layers.size() << " visibility layers, " << ex.imageLayers.size() << " image layers, "
-    << ex.objects.objects.size() << " objects in the scene, " << ex.visibility.cycles.size() << " cycles; "
-    << ex.hits.hits.size() << " surfaces on " << ex.hits.pixelCount() << " rays (cast " << ex.castSeconds << " s, peel "
-    << ex.peelSeconds << " s, fill " << ex.fillSeconds << " s, " << ex.prefillPhotos
-    << " photographs for the pre-fill)\n";
+    << ex.objects.objects.size() << " objects in the scene, " << ex.visibility.splits.size() << " cycles ("
+    << ex.visibility.splitObjects.size() << " objects split into faces, " << ex.visibility.splitFaces.size()
+    << " faces into triangles, " << ex.visibility.cycles.size() << " broken at pixel level); " << ex.hits.hits.size()
+    << " surfaces on " << ex.hits.pixelCount() << " rays (cast " << ex.castSeconds << " s, peel " << ex.peelSeconds
+    << " s, fill " << ex.fillSeconds << " s, " << ex.prefillPhotos << " photographs for the pre-fill)\n";
   std::vector<int> layerOf;
   std::vector<glm::ivec2> sizes;
   for (const auto& l : ex.imageLayers) {

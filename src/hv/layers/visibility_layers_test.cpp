@@ -155,6 +155,114 @@ TEST(VisibilityLayers, CompletedFromObjectLayersMatchesThePeel) {
   EXPECT_EQ(s.layerOfHit, (std::vector<std::uint16_t>{1, 2, 3, 2, 3, 3}));
 }
 
+// Rays given with the triangles hit: per pixel (one row), (object, triangle) nearest first, depths
+// the positions; faceOfTriangle as given.
+PixelHits withTriangles(const std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>>& rays,
+                        std::vector<std::uint32_t> faceOfTriangle) {
+  PixelHits h;
+  h.width = int(rays.size());
+  h.height = 1;
+  h.faceOfTriangle = std::move(faceOfTriangle);
+  for (const auto& ray : rays) {
+    std::vector<SurfaceHit> hits;
+    for (std::size_t k = 0; k < ray.size(); ++k) hits.push_back({ray[k].first, double(k + 1), ray[k].second});
+    h.appendPixel(hits);
+  }
+  return h;
+}
+
+TEST(VisibilityLayers, RingOfThreeIsSplitIntoFaces) {
+  // A (0), B (1), C (2), two faces each of one triangle (triangle t is face t: A 0, 1; B 2, 3;
+  // C 4, 5). A's face 0 hides B's face 3, B's face 2 hides C's face 5, C's face 4 hides A's face 1:
+  // whole, a ring; as faces, 0, 2 and 4 hide the others and nothing hides them.
+  const PixelHits h = withTriangles(
+      {{{0, 0}, {1, 3}}, {{1, 2}, {2, 5}}, {{2, 4}, {0, 1}}, {{0, 0}}, {{1, 2}}, {{2, 4}}}, {0, 1, 2, 3, 4, 5});
+  const VisibilityLayers v = peelVisibilityLayers(h);
+  EXPECT_TRUE(v.cycles.empty());  // nothing broken at pixel level
+  ASSERT_EQ(v.splits.size(), 1u);
+  EXPECT_EQ(v.splits[0].into, CycleSplit::Into::Faces);
+  EXPECT_EQ(v.splits[0].items, 3u);
+  EXPECT_EQ(v.splits[0].beforeLayer, 1);
+  const auto& cycle = v.splits[0].objects;
+  ASSERT_EQ(cycle.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_EQ((cycle[(k + 1) % 3] + 3 - cycle[k]) % 3, 1u) << "object " << cycle[k] << " does not hide the next";
+  EXPECT_EQ(v.layerOfHit, (std::vector<std::uint16_t>{1, 2, 1, 2, 1, 2, 1, 1, 1}));
+  ASSERT_EQ(v.layers.size(), 2u);
+  EXPECT_EQ(v.layers[0].objects, ids("ABC"));
+  EXPECT_EQ(v.layers[0].split, ids("ABC"));
+  EXPECT_EQ(v.layers[1].split, ids("ABC"));
+  EXPECT_EQ(v.splitObjects, ids("ABC"));
+  EXPECT_TRUE(v.splitFaces.empty());
+  EXPECT_EQ(v.pieceOf(h, h.hits[1]), (VisibilityLayers::Piece{VisibilityLayers::PieceKind::Face, 3}));
+}
+
+TEST(VisibilityLayers, FacesStillInACycleAreSplitIntoTriangles) {
+  // One face per object, of two triangles (A: 0, 1 face 0; B: 2, 3 face 1; C: 4, 5 face 2).
+  // Triangle 1 hides 2, 3 hides 4, 5 hides 0: the faces are a ring as the objects are; the
+  // triangles are not (1, 3, 5 first, then 0, 2, 4).
+  const PixelHits h = withTriangles(
+      {{{0, 1}, {1, 2}}, {{1, 3}, {2, 4}}, {{2, 5}, {0, 0}}, {{0, 0}}, {{1, 2}}, {{2, 4}}}, {0, 0, 1, 1, 2, 2});
+  const VisibilityLayers v = peelVisibilityLayers(h);
+  EXPECT_TRUE(v.cycles.empty());
+  ASSERT_EQ(v.splits.size(), 2u);
+  EXPECT_EQ(v.splits[0].into, CycleSplit::Into::Faces);
+  EXPECT_EQ(v.splits[1].into, CycleSplit::Into::Triangles);
+  EXPECT_EQ(v.splits[1].items, 3u);  // the three faces
+  EXPECT_EQ(v.splits[1].beforeLayer, 1);
+  EXPECT_EQ(v.layerOfHit, (std::vector<std::uint16_t>{1, 2, 1, 2, 1, 2, 2, 2, 2}));
+  ASSERT_EQ(v.layers.size(), 2u);
+  EXPECT_EQ(v.splitFaces, (std::vector<std::uint32_t>{0, 1, 2}));
+  EXPECT_EQ(v.pieceOf(h, h.hits[0]), (VisibilityLayers::Piece{VisibilityLayers::PieceKind::Triangle, 1}));
+}
+
+TEST(VisibilityLayers, CyclicTrianglesAreReportedAndBrokenAtPixelLevel) {
+  // Two single-triangle objects crossing each other: A (triangle 0) in front of B (triangle 1) on
+  // the first ray, behind it on the second. No split orders them: a cycle, broken at pixel level.
+  const PixelHits h = withTriangles({{{0, 0}, {1, 1}}, {{1, 1}, {0, 0}}, {{0, 0}}, {{1, 1}}}, {0, 1});
+  const VisibilityLayers v = peelVisibilityLayers(h);
+  ASSERT_EQ(v.splits.size(), 3u);
+  EXPECT_EQ(v.splits[0].into, CycleSplit::Into::Faces);
+  EXPECT_EQ(v.splits[1].into, CycleSplit::Into::Triangles);
+  EXPECT_EQ(v.splits[2].into, CycleSplit::Into::Pixels);
+  ASSERT_EQ(v.cycles.size(), 1u);
+  EXPECT_EQ(std::set<std::uint32_t>(v.cycles[0].begin(), v.cycles[0].end()), (std::set<std::uint32_t>{0, 1}));
+  EXPECT_EQ(v.layerOfHit, (std::vector<std::uint16_t>{1, 2, 1, 2, 1, 1}));
+  ASSERT_EQ(v.layers.size(), 2u);
+  EXPECT_EQ(v.layers[0].split, ids("AB"));
+}
+
+TEST(VisibilityLayers, SplitCompletedFromObjectLayersMatchesThePeel) {
+  // F (3, triangle 6) in front of the faces' ring: F first, the ring split into faces after it.
+  const PixelHits h =
+      withTriangles({{{3, 6}, {0, 0}, {1, 3}}, {{1, 2}, {2, 5}}, {{2, 4}, {0, 1}}, {{0, 0}}, {{1, 2}}, {{2, 4}}},
+                    {0, 1, 2, 3, 4, 5, 6});
+  const VisibilityLayers whole = peelVisibilityLayers(h);
+  ASSERT_EQ(whole.layers.size(), 3u);
+  EXPECT_EQ(whole.layers[0].objects, ids("D"));
+  ASSERT_EQ(whole.splits.size(), 1u);
+  EXPECT_EQ(whole.splits[0].beforeLayer, 2);
+  const VisibilityLayers v = completeVisibilityLayers(h, {0, 0, 0, 1});
+  EXPECT_EQ(v.layerOfHit, whole.layerOfHit);
+  ASSERT_EQ(v.splits.size(), 1u);
+  EXPECT_EQ(v.splits[0].objects, whole.splits[0].objects);
+  EXPECT_EQ(v.splitObjects, whole.splitObjects);
+}
+
+TEST(VisibilityLayers, HitWithoutItsTriangleIsRefused) {
+  PixelHits h;
+  h.width = 1;
+  h.height = 1;
+  h.faceOfTriangle = {0, 0};
+  h.appendPixel({{0, 1.0}});  // no triangle named
+  try {
+    peelVisibilityLayers(h);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("names triangle none"), std::string::npos) << e.what();
+  }
+}
+
 TEST(VisibilityLayers, EmptyAndInconsistentInput) {
   PixelHits empty;
   empty.width = 2;

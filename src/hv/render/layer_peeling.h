@@ -9,7 +9,7 @@
 // item buffer holds another object in front of them: the object is blocked. Its own surfaces in
 // front of it (an L-shape's near wing, a courtyard's front wall) do not block it. The objects no
 // query saw blocked are the layer; they leave the working set. When every object left is blocked,
-// the pass stops (a cycle: the CPU reference splits it at pixel level).
+// the pass stops (a cycle: the CPU reference splits it into faces, triangles, or at pixel level).
 //
 // As the ray caster does, only surfaces facing the camera count, and none under the ground: a
 // terrain pass stores where each pixel's ray enters the ground (nearest terrain surface facing the

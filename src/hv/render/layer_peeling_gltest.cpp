@@ -1,8 +1,9 @@
 // Visibility layers peeled on the GPU (render/layer_peeling.h) against the CPU reference: rays
 // cast with Embree through every pixel (hv/layers/native/scene_objects.h) and peeled on the hit
 // lists (hv/layers/visibility_layers.h), on small scenes of boxes on the ground: a building behind
-// another, a courtyard, an L-shape hiding itself, and a shed in a courtyard (a cycle: the GPU stops
-// there and the CPU finishes from its layers).
+// another, a courtyard, an L-shape hiding itself, a shed in a courtyard and three sticks in a ring
+// (cycles: the GPU stops there and the CPU finishes from its layers, splitting objects into faces
+// and triangles).
 #include "hv/render/layer_peeling.h"
 
 #include "hv/layers/native/scene_objects.h"
@@ -131,12 +132,42 @@ TEST(GpuLayerPeeling, ShedInACourtyardStopsAtTheCycleAndTheCpuFinishes) {
   Mesh b = courtyard(6.0, 3);
   b.append(box({-3, -3, -1}, {3, 3, 12}, 4));
   const Compared c = peelBoth(b, lookAtCamera("photo", {0.0, -45.0, 15.0}, {0.0, 0.0, 4.0}, 96, 72, 60.0));
-  ASSERT_FALSE(c.cpuLayers.cycles.empty());
+  // The CPU splits the two into faces (the front wall's outer face hides the shed, the shed's
+  // front hides the far wall's inner face: faces can be ordered), nothing at pixel level.
+  ASSERT_EQ(c.cpuLayers.splits.size(), 1u);
+  EXPECT_EQ(c.cpuLayers.splits[0].into, layers::CycleSplit::Into::Faces);
+  EXPECT_EQ(c.cpuLayers.splits[0].objects.size(), 2u);
+  EXPECT_TRUE(c.cpuLayers.cycles.empty());
   EXPECT_TRUE(c.gpuLayers.stoppedAtCycle);
   // The objects before the cycle are the CPU's; the CPU then finishes to the same layers.
   const layers::VisibilityLayers finished = layers::completeVisibilityLayers(c.hits, c.gpu);
   EXPECT_EQ(finished.layerOfHit, c.cpuLayers.layerOfHit);
   EXPECT_EQ(finished.cycles, c.cpuLayers.cycles);
+  ASSERT_EQ(finished.splits.size(), c.cpuLayers.splits.size());
+  EXPECT_EQ(finished.splits[0].objects, c.cpuLayers.splits[0].objects);
+}
+
+TEST(GpuLayerPeeling, ThreeSticksStopTheGpuAndTheCpuSplitsThemAlike) {
+  // Three sticks overlapping in a ring (hv::testing::threeSticks) over the ground, seen from above:
+  // no object can be peeled whole (the ground is under all three), so the GPU stops at once; the
+  // CPU splits the sticks into faces, then triangles, and from the GPU's (empty) layers finishes to
+  // exactly its own layers.
+  const Compared c =
+      peelBoth(hv::testing::threeSticks(2), lookAtCamera("photo", {0.0, -3.0, 60.0}, {0.0, 0.0, 0.0}, 96, 96, 180.0));
+  EXPECT_TRUE(c.gpuLayers.stoppedAtCycle);
+  EXPECT_EQ(c.gpuLayers.layers, 0);
+  ASSERT_GE(c.cpuLayers.splits.size(), 2u);
+  EXPECT_EQ(c.cpuLayers.splits[0].into, layers::CycleSplit::Into::Faces);
+  EXPECT_EQ(c.cpuLayers.splits[0].objects.size(), 3u);
+  EXPECT_TRUE(c.cpuLayers.cycles.empty());
+  const layers::VisibilityLayers finished = layers::completeVisibilityLayers(c.hits, c.gpu);
+  EXPECT_EQ(finished.layerOfHit, c.cpuLayers.layerOfHit);
+  ASSERT_EQ(finished.splits.size(), c.cpuLayers.splits.size());
+  for (std::size_t k = 0; k < finished.splits.size(); ++k) {
+    EXPECT_EQ(finished.splits[k].into, c.cpuLayers.splits[k].into);
+    EXPECT_EQ(finished.splits[k].objects, c.cpuLayers.splits[k].objects);
+  }
+  EXPECT_EQ(finished.splitFaces, c.cpuLayers.splitFaces);
 }
 
 TEST(GpuLayerPeeling, MismatchedArraysAreRefused) {

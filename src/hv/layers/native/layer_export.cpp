@@ -103,9 +103,9 @@ LayerExport exportLayers(const Scene& scene, std::size_t photoIndex, const Layer
     out.visibility = peelVisibilityLayers(out.hits);
   }
   out.peelSeconds = since(t0);
-  for (const auto& cycle : out.visibility.cycles) {
+  for (const CycleSplit& cycle : out.visibility.splits) {
     std::string names;
-    for (std::uint32_t o : cycle) names += (names.empty() ? "" : " > ") + out.objects.objects[o].name;
+    for (std::uint32_t o : cycle.objects) names += (names.empty() ? "" : " > ") + out.objects.objects[o].name;
     out.cycleNames.push_back(names);
   }
 

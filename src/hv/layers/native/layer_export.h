@@ -58,7 +58,7 @@ struct LayerExport {
   VisibilityLayers visibility;
   std::vector<std::uint16_t> gpuObjectLayers;  // what settings.objectLayers gave, when set
   std::vector<ImageLayerInfo> imageLayers;     // in the stack's order
-  std::vector<std::string> cycleNames;         // each cycle met, its objects' names joined
+  std::vector<std::string> cycleNames;         // each cycle met (visibility.splits), its objects' names joined
   OraDocument document;                        // top first: guide, L1..., background
   int prefillPhotos = 0;                       // other photographs decoded for the pre-fill
   double castSeconds = 0.0, peelSeconds = 0.0, fillSeconds = 0.0;

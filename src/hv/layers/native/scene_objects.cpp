@@ -2,11 +2,68 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <numeric>
+#include <stdexcept>
+#include <string>
 #include <thread>
+#include <tuple>
 #include <utility>
 
 namespace hv::layers {
+
+std::vector<std::uint32_t> faceGroups(const Mesh& mesh, const std::vector<std::uint32_t>& objectOfTriangle,
+                                      double angleDegrees) {
+  const std::size_t n = mesh.triangles.size();
+  if (objectOfTriangle.size() != n)
+    throw std::invalid_argument("face groups: " + std::to_string(objectOfTriangle.size()) + " object ids for " +
+                                std::to_string(n) + " triangles");
+  // Vertices welded by position (meshes appended or extruded may repeat a corner).
+  std::map<std::tuple<double, double, double>, std::uint32_t> weld;
+  std::vector<std::uint32_t> vertex(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::dvec3& p = mesh.positions[v];
+    vertex[v] = weld.try_emplace({p.x, p.y, p.z}, std::uint32_t(weld.size())).first->second;
+  }
+  std::vector<glm::dvec3> normal(n, glm::dvec3(0.0));
+  for (std::size_t t = 0; t < n; ++t) {
+    const glm::uvec3& tri = mesh.triangles[t];
+    const glm::dvec3 c =
+        glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x], mesh.positions[tri.z] - mesh.positions[tri.x]);
+    const double len = glm::length(c);
+    if (len > 0.0 && std::isfinite(len)) normal[t] = c / len;
+  }
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](std::uint32_t t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  const double cosMax = std::cos(angleDegrees * 3.14159265358979323846 / 180.0);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> edgeOf;  // welded edge -> triangles
+  for (std::uint32_t t = 0; t < n; ++t) {
+    if (normal[t] == glm::dvec3(0.0)) continue;
+    const glm::uvec3& tri = mesh.triangles[t];
+    const std::uint32_t v[3] = {vertex[tri.x], vertex[tri.y], vertex[tri.z]};
+    for (int e = 0; e < 3; ++e) {
+      const auto key = std::minmax(v[e], v[(e + 1) % 3]);
+      std::vector<std::uint32_t>& sharing = edgeOf[{key.first, key.second}];
+      for (std::uint32_t u : sharing)
+        if (objectOfTriangle[u] == objectOfTriangle[t] && glm::dot(normal[u], normal[t]) >= cosMax)
+          parent[root(u)] = root(t);
+      sharing.push_back(t);
+    }
+  }
+  std::vector<std::uint32_t> face(n), number(n, std::numeric_limits<std::uint32_t>::max());
+  std::uint32_t faces = 0;
+  for (std::uint32_t t = 0; t < n; ++t) {
+    const std::uint32_t r = root(t);
+    if (number[r] == std::numeric_limits<std::uint32_t>::max()) number[r] = faces++;
+    face[t] = number[r];
+  }
+  return face;
+}
 
 SceneObjects collectSceneObjects(const Scene& scene, double terrainTileMetres) {
   SceneObjects out;
@@ -50,6 +107,7 @@ SceneObjects collectSceneObjects(const Scene& scene, double terrainTileMetres) {
   out.geometry.append(m);
   out.terrainTriangle.assign(out.geometry.triangles.size(), false);
   std::fill(out.terrainTriangle.begin(), out.terrainTriangle.begin() + std::ptrdiff_t(terrain.triangles.size()), true);
+  out.faceOfTriangle = faceGroups(out.geometry, out.objectOfTriangle);
   return out;
 }
 
@@ -76,11 +134,11 @@ PixelHits castPixelHits(const Camera& camera, const SceneObjects& objects, const
         tMin = hit->t + settings.sameSurfaceMetres + settings.sameSurfaceRelative * hit->t;
         const bool facing = glm::dot(hit->normal, *dir) < 0.0;
         if (objects.terrainTriangle[hit->triangle]) {
-          if (!underground && facing) hits.push_back({objects.objectOfTriangle[hit->triangle], hit->t});
+          if (!underground && facing) hits.push_back({objects.objectOfTriangle[hit->triangle], hit->t, hit->triangle});
           underground = facing;  // entering the ground from above, or leaving it
           continue;
         }
-        if (facing && !underground) hits.push_back({objects.objectOfTriangle[hit->triangle], hit->t});
+        if (facing && !underground) hits.push_back({objects.objectOfTriangle[hit->triangle], hit->t, hit->triangle});
       }
     }
   };
@@ -94,6 +152,7 @@ PixelHits castPixelHits(const Camera& camera, const SceneObjects& objects, const
   PixelHits out;
   out.width = w;
   out.height = h;
+  out.faceOfTriangle = objects.faceOfTriangle;
   for (auto& p : perPixel) out.appendPixel(std::move(p));
   return out;
 }

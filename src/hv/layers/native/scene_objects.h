@@ -30,8 +30,18 @@ struct SceneObjects {
   Mesh geometry;                                // terrain, then buildings, then the mesh
   std::vector<std::uint32_t> objectOfTriangle;  // index into `objects`
   std::vector<bool> terrainTriangle;            // true for the terrain's triangles
+  std::vector<std::uint32_t> faceOfTriangle;    // its face (faceGroups), what a cycle splits objects into
   std::vector<SceneObject> objects;
 };
+
+// The faces of the objects of `mesh`, for splitting an object that a cycle keeps from being
+// ordered whole (Layered projective texture maps, 2003, §4.1): per triangle, its face, numbered
+// from 0 in the order of the faces' first triangles. A face is a group of triangles of one object
+// (objectOfTriangle) connected through shared edges (vertices at equal positions) whose normals
+// agree within `angleDegrees`: a building's wall, its roof, a flat terrain tile. A degenerate
+// triangle is a face of its own. Throws std::invalid_argument when objectOfTriangle does not match.
+std::vector<std::uint32_t> faceGroups(const Mesh& mesh, const std::vector<std::uint32_t>& objectOfTriangle,
+                                      double angleDegrees = 0.1);
 
 // `terrainTileMetres` > 0: the side of the terrain tiles.
 SceneObjects collectSceneObjects(const Scene& scene, double terrainTileMetres);
@@ -48,7 +58,8 @@ struct RayCastSettings {
 // nearest first, the surfaces that face the camera and are not under the ground: a ray that enters
 // the terrain from above is underground until it leaves it, and what it meets there (the buried
 // foot of a wall on a slope) hides nothing. Depths are distances along the unit ray from the
-// camera centre. Rows are shared among the cores.
+// camera centre; each hit names its triangle, and the hit lists carry objects.faceOfTriangle. Rows
+// are shared among the cores.
 PixelHits castPixelHits(const Camera& camera, const SceneObjects& objects, const RayQuery& caster,
                         const RayCastSettings& settings = {});
 
