@@ -12,6 +12,9 @@
 #     by plain URL from /files/ are identical;
 #   - the responses go into the response cache (HV_CACHE_DIR): a second run asks the server for no
 #     photograph, HV_NO_CACHE=1 asks again;
+#   - a progressive flight over one view (`fly --progressive`) shows the previews (a quarter of
+#     the camera's width here) first and converges to the full images, as the view from the files (>= 30 dB); the bytes
+#     fetched are printed, the previews' under a quarter of the full images';
 #   - faults (a 404 info.json through tests/services/fault_proxy.py, a truncated IIIF image, a
 #     missing plain image, an image of another aspect ratio) name the URL, the camera and the
 #     status, leave that photograph out (exit code 3) and the rest renders.
@@ -114,12 +117,78 @@ check "cached: no IIIF request the second time ($before before, $(requests "IIIF
 HV_NO_CACHE=1 run eval-iiif-nocache eval "$city/iiif.json" --views "$city/views.json" --truth "$DIR/files" --k 4 --json "$DIR/eval-nocache.json"
 check "HV_NO_CACHE=1: asked again" test "$(requests "IIIF=")" -gt "$before"
 
-# --- faults: the photograph named and left out, the rest rendered
+# --- the fault proxy (tests/services/fault_proxy.py), for the slow link and the faults below
 pport=$(free_port)
 python3 "$ROOT/tests/services/fault_proxy.py" "$pport" "$URL" "$DIR/proxy.log" >"$DIR/proxy.out" 2>&1 &
 proxy_pid=$!
 for _ in $(seq 50); do grep -q "fault proxy on" "$DIR/proxy.out" 2>/dev/null && break; sleep 0.1; done
 P=http://127.0.0.1:$pport
+
+# --- previews (a small size first): a progressive flight over one view, every response fetched
+# (HV_NO_CACHE=1) through a slow link (the fault proxy's `throttled-data`, 16 KiB/s: on loopback
+# alone the full images arrive before a preview is ever drawn). The first frame that shows
+# photographs shows their previews (asked by width, "W,"), the converged frame the full images,
+# as the views from the files.
+cameras throttled "$P/throttled-data/iiif?IIIF={id}.tif/info.json"
+python3 - "$city/views.json" "$DIR/path.json" <<'PY'
+import json, sys
+view = json.load(open(sys.argv[1]))["cameras"][0]
+json.dump({"cameras": [dict(view, id="a", t=0), dict(view, id="b", t=4)]}, open(sys.argv[2], "w"))
+PY
+view_id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["id"])' "$city/views.json")
+flush_log
+log_before=$(wc -l <"$state/access.log")
+HV_LOG=debug HV_NO_CACHE=1 run fly-previews fly "$city/throttled.json" --path "$DIR/path.json" --fps 15 --progressive \
+  --out "$DIR/fly" --k 4
+expect_clean fly-previews 0
+frames=$(grep -E '^.*frame [0-9]+ \(progressive\): ' "$out" | sed -E 's/.*frame ([0-9]+) \(progressive\): ([0-9]+) images shown, ([0-9]+) as previews, ([0-9]+) waiting/\1 \2 \3 \4/')
+first_shown=$(awk '$2 > 0 {print; exit}' <<<"$frames")
+last_frame=$(tail -1 <<<"$frames")
+echo "  first frame with photographs (frame, shown, previews, waiting): $first_shown; last: $last_frame"
+check "previews: the first frame with photographs shows them all as previews" \
+  awk -v l="$first_shown" 'BEGIN { split(l, f, " "); exit !(f[2] > 0 && f[3] == f[2]) }'
+check "previews: the last frame shows no preview and waits for nothing" \
+  awk -v l="$last_frame" 'BEGIN { split(l, f, " "); exit !(f[2] > 0 && f[3] == 0 && f[4] == 0) }'
+expect_out "previews: the flight converged" "first converged frame: [0-9]+"
+flush_log
+tail -n +"$((log_before + 1))" "$state/access.log" >"$DIR/fly-access.log"
+# The preview's width: the image fitted in min(256, a quarter of the camera's longer side).
+first_height=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["height"])' "$city/cameras.json")
+box=$(( (first_width > first_height ? first_width : first_height) / 4 )); box=$((box < 256 ? box : 256))
+preview_width=$(python3 -c 'import sys; w, h, b = map(int, sys.argv[1:]); print(min(b, w) if w >= h else max(1, round(b * w / h)))' "$first_width" "$first_height" "$box")
+check "previews: each photograph asked at $preview_width px wide ('$preview_width,') before the full size ('$first_width,')" \
+  python3 - "$DIR/fly-access.log" "$first_width" "$preview_width" <<'PY'
+import re, sys
+full, preview = sys.argv[2], sys.argv[3]
+first = {}  # (photograph, width) -> first line asking for it
+for i, line in enumerate(open(sys.argv[1])):
+    m = re.search(r"IIIF=([^/ ]+)\.tif/full/(\d+),/0/default\.jpg", line)
+    if m:
+        first.setdefault((m.group(1), m.group(2)), i)
+fulls = [p for (p, w) in first if w == full]
+print("  photographs asked at full size:", " ".join(sorted(fulls)))
+sys.exit(0 if fulls and all(first.get((p, preview), 1 << 30) < first[(p, full)] for p in fulls) else 1)
+PY
+last_png=$(ls "$DIR/fly"/*.png | sort | tail -1)
+check "previews: the converged frame as the view from the files (PSNR >= 30 dB)" \
+  python3 - "$ROOT/tests/services/png_compare.py" "$last_png" "$DIR/files/$view_id.png" <<'PY'
+import re, subprocess, sys
+out = subprocess.run([sys.executable] + sys.argv[1:], capture_output=True, text=True).stdout
+print("  converged frame against the files:", out.strip())
+m = re.search(r"PSNR (\S+) dB", out)
+sys.exit(0 if m and (m.group(1) == "inf" or float(m.group(1)) >= 30) else 1)
+PY
+fetched=$(grep -E '^photographs read by URL:' "$out")
+echo "  $fetched"
+echo "  $(grep -E '^http\(s\) responses:' "$out")"
+echo "  $(grep -E '^first frame after' "$out")"
+check "previews: bytes reported, the previews' under a quarter of the full images'" python3 - "$fetched" <<'PY'
+import re, sys
+m = re.search(r"(\d+) previews, (\d+) bytes; (\d+) full images, (\d+) bytes", sys.argv[1])
+sys.exit(0 if m and int(m.group(1)) > 0 and int(m.group(3)) > 0 and 0 < 4 * int(m.group(2)) < int(m.group(4)) else 1)
+PY
+
+# --- faults: the photograph named and left out, the rest rendered
 # The first camera that is not square, for the square photograph below.
 second=$(python3 -c 'import json,sys; print(next(c["id"] for c in json.load(open(sys.argv[1]))["cameras"] if c["width"] != c["height"]))' "$city/cameras.json")
 # A square photograph for a 4:3 camera: refused by its aspect ratio (a 64 x 64 grey PNG, then

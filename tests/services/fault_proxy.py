@@ -11,6 +11,8 @@ later, part-way. Faults:
     ok          passed through
     404, 500, 503   that status, with a short text body
     slow        the answer after HV_FAULT_SLOW_S seconds (default 8: past the client's time-out)
+    throttled   the answer at HV_FAULT_RATE bytes per second (default 16384), in 1 KiB pieces: a
+                slow link, on which a large answer takes longer than a small one
     reset       the connection reset (RST) without an answer
     truncated   the status line and headers, a Content-Length of the whole, then half the body
     malformed   the body replaced by a broken document of the same kind (XML, JSON) with a
@@ -32,7 +34,8 @@ PORT, UPSTREAM, LOG = int(sys.argv[1]), sys.argv[2].rstrip("/"), sys.argv[3]
 UP_HOST, UP_PORT = UPSTREAM.split("//", 1)[1].split(":")
 UP_PORT = int(UP_PORT)
 SLOW_S = float(os.environ.get("HV_FAULT_SLOW_S", "8"))
-FAULTS = {"ok", "404", "500", "503", "slow", "reset", "truncated", "malformed"}
+RATE = float(os.environ.get("HV_FAULT_RATE", "16384"))
+FAULTS = {"ok", "404", "500", "503", "slow", "reset", "truncated", "malformed", "throttled"}
 log_lock = threading.Lock()
 
 
@@ -56,14 +59,20 @@ class Proxy(http.server.BaseHTTPRequestHandler):
     def log_message(self, *args):
         pass
 
-    def reply(self, status, body, content_type="text/plain", length=None):
+    def reply(self, status, body, content_type="text/plain", length=None, rate=None):
         self.send_response(status)
         self.send_header("Content-Type", content_type)
         self.send_header("Content-Length", str(len(body) if length is None else length))
         self.send_header("Access-Control-Allow-Origin", "*")
         self.send_header("Connection", "close")
         self.end_headers()
-        self.wfile.write(body)
+        if rate:
+            for i in range(0, len(body), 1024):
+                self.wfile.write(body[i:i + 1024])
+                self.wfile.flush()
+                time.sleep(len(body[i:i + 1024]) / rate)
+        else:
+            self.wfile.write(body)
         self.wfile.flush()
         self.close_connection = True
 
@@ -108,6 +117,8 @@ class Proxy(http.server.BaseHTTPRequestHandler):
             return self.reply(status, body[: len(body) // 2], ctype, length=len(body))
         if base == "malformed":
             return self.reply(status, broken(body, ctype), ctype)
+        if base == "throttled":
+            return self.reply(status, body, ctype, rate=RATE)
         return self.reply(status, body, ctype)
 
 

@@ -1,12 +1,12 @@
 #include "hv/app/eval_command.h"
 
-#include "hv/session/session.h"
-#include "hv/session/outputs.h"
 #include "hv/eval/evaluate.h"
 #include "hv/eval/metrics.h"
 #include "hv/eval/seams.h"
 #include "hv/image/image.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/session/outputs.h"
+#include "hv/session/session.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -27,7 +27,7 @@ struct EvalCommandOptions {
   std::string json;
   bool leaveOneOut = false;
   bool borderSeams = false;
-  std::string flicker;  // a directory of fly frames
+  std::string flicker;             // a directory of fly frames
   std::vector<std::string> seams;  // panorama ids: the photographs whose id ends with one form its rig
   std::vector<double> seamRadii{10.0, 30.0, 1000.0};
 };
@@ -43,9 +43,8 @@ int runSeams(const EvalCommandOptions& o) {
     for (const Photo& p : scene.photos)
       if (p.camera.id.ends_with(pano)) rig.push_back(&p);
     if (rig.size() < 2)
-      throw std::invalid_argument("eval --seams " + pano + ": " + std::to_string(rig.size()) +
-                                  " photograph(s) of " + o.view.scenePath +
-                                  " have an id ending with it; a panorama needs 2 or more");
+      throw std::invalid_argument("eval --seams " + pano + ": " + std::to_string(rig.size()) + " photograph(s) of " +
+                                  o.view.scenePath + " have an id ending with it; a panorama needs 2 or more");
     std::vector<ImageF> greys;
     glm::dvec3 centre(0.0);
     for (const Photo* p : rig) {
@@ -136,6 +135,7 @@ int runEval(const EvalCommandOptions& o) {
     f << eval::toJson(report).dump(2) << "\n";
     std::cout << "wrote " << o.json << "\n";
   }
+  std::cout << fetchedSummary();
   return exitStatus(diag, report.rows.empty() ? std::max<size_t>(notScored, 1) : notScored);
 }
 
@@ -166,8 +166,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--seam-radii", o->seamRadii, "--seams: background sphere radii, scene units (default 10,30,1000)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--method", o->methods, "blend, nearest, no-occlusion (comma separated to compare)")
-      ->delimiter(',');
+  cmd->add_option("--method", o->methods, "blend, nearest, no-occlusion (comma separated to compare)")->delimiter(',');
   cmd->add_option("--json", o->json, "also write the report as JSON");
   setAction(*cmd, exitCode, [o] { return runEval(*o); });
 }

@@ -1,11 +1,11 @@
 #include "hv/app/fly_command.h"
 
-#include "hv/session/session.h"
-#include "hv/session/outputs.h"
 #include "hv/camera/camera_path.h"
-#include "hv/io/camera_path_json.h"
 #include "hv/image/image.h"
 #include "hv/image/native/png_write.h"
+#include "hv/io/camera_path_json.h"
+#include "hv/session/outputs.h"
+#include "hv/session/session.h"
 #include "hv/viewer/tour.h"
 
 #include <CLI/CLI.hpp>
@@ -118,17 +118,15 @@ int runFly(const FlyOptions& o) {
   if (!o.video.empty()) {
     ffmpeg = findOnPath("ffmpeg");
     if (ffmpeg.empty())
-      std::cerr
-          << "warning: --video: ffmpeg is not on PATH; the frames will be written as PNGs but not encoded\n";
+      std::cerr << "warning: --video: ffmpeg is not on PATH; the frames will be written as PNGs but not encoded\n";
   }
   ViewOptions sessionOptions = o.view;
   sessionOptions.viewpoint = {};  // the viewpoints make the path, not views
   const std::unique_ptr<Session> s = openSession(sessionOptions, diag);
   if (!fromPath) frames.emplace(viewpointPath(s->scene, o), o.fps);
   const Camera first = sizeView((*frames)[0], o.view.size, o.view.viewpoint.fit);
-  std::cout << "flying " << frames->size() << " frame(s) of " << first.width << "x" << first.height << " at "
-            << o.fps << " fps (" << (o.progressive ? "progressive" : "converged") << " frames) to " << o.out
-            << "\n";
+  std::cout << "flying " << frames->size() << " frame(s) of " << first.width << "x" << first.height << " at " << o.fps
+            << " fps (" << (o.progressive ? "progressive" : "converged") << " frames) to " << o.out << "\n";
   const FlyResult r = flyPath(
       *s->renderer, frames->size(), [&](int i) { return sizeView((*frames)[i], o.view.size, o.view.viewpoint.fit); },
       o.out, o.progressive, [](const FlyFrame& f) { std::cerr << progressLine(f) << std::flush; },
@@ -140,11 +138,21 @@ int runFly(const FlyOptions& o) {
   if (r.gaveUp)
     std::cerr << "error: " << kMaxConsecutiveFlyFailures << " frames failed in a row; the remaining "
               << frames->size() - r.frames - int(r.failures.size()) << " frame(s) were not tried\n";
-  std::cout << "wrote " << r.frames << " frame(s) to " << o.out << " in " << std::fixed
-            << std::setprecision(1) << r.totalMs / 1000.0 << " s";
+  std::cout << "wrote " << r.frames << " frame(s) to " << o.out << " in " << std::fixed << std::setprecision(1)
+            << r.totalMs / 1000.0 << " s";
   if (o.progressive) std::cout << " (" << r.convergedFrames << " converged)";
   if (!r.failures.empty()) std::cout << "; " << r.failures.size() << " failed";
   std::cout << "\n";
+  if (o.progressive && r.frames > 0) {
+    std::cout << "first frame after " << std::setprecision(2) << r.firstMs / 1000.0 << " s";
+    if (r.firstShown >= 0)
+      std::cout << "; first frame showing photographs: " << r.firstShown << ", after " << r.firstShownMs / 1000.0
+                << " s";
+    if (r.firstConverged >= 0)
+      std::cout << "; first converged frame: " << r.firstConverged << ", after " << r.firstConvergedMs / 1000.0 << " s";
+    std::cout << "\n";
+  }
+  std::cout << fetchedSummary();
   const std::size_t missing = std::size_t(frames->size() - r.frames);
   const int code = exitStatus(diag, missing);
   if (!o.video.empty() && missing > 0) {
@@ -158,16 +166,14 @@ int runFly(const FlyOptions& o) {
     for (const auto& a : args) command += (command.empty() ? "" : " ") + shellQuoted(a);
     if (ffmpeg.empty()) {
       std::cerr << "error: --video: ffmpeg is not installed (not found on PATH), so " << o.video
-                << " was not written; the PNG frames are in " << o.out << ". With ffmpeg: " << command
-                << "\n";
+                << " was not written; the PNG frames are in " << o.out << ". With ffmpeg: " << command << "\n";
       return 1;
     }
     std::cout << "encoding: " << command << "\n";
     const int status = runProgram(args);
     if (status != 0) {
       std::cerr << "error: --video: ffmpeg "
-                << (status < 0 ? "could not be started"
-                               : "failed (exit status " + std::to_string(status) + ")")
+                << (status < 0 ? "could not be started" : "failed (exit status " + std::to_string(status) + ")")
                 << "; the PNG frames are in " << o.out << "\n";
       return 1;
     }
@@ -223,6 +229,15 @@ FlyResult flyPath(render::Renderer& renderer, int count, const std::function<Cam
     f.elapsedMs = std::chrono::duration<double, std::milli>(t1 - start).count();
     f.converged = renderer.converged();
     f.imagesWaiting = renderer.stats().imagesWaiting;
+    if (result.frames == 0) result.firstMs = f.elapsedMs;
+    if (result.firstShown < 0 && renderer.lastPlan().images.size() > std::size_t(f.imagesWaiting)) {
+      result.firstShown = i;
+      result.firstShownMs = f.elapsedMs;
+    }
+    if (f.converged && result.firstConverged < 0) {
+      result.firstConverged = i;
+      result.firstConvergedMs = f.elapsedMs;
+    }
     ++result.frames;
     result.convergedFrames += f.converged;
     result.totalMs = f.elapsedMs;
@@ -240,10 +255,9 @@ std::string progressLine(const FlyFrame& f) {
   // the mean settles faster than an exponential average would forget them.
   const double msPerFrame = f.elapsedMs / std::max(done, 1);
   std::ostringstream s;
-  s << "\r[" << std::string(size_t(filled), '#') << std::string(size_t(kWidth - filled), '-') << "] frame "
-    << done << "/" << f.total << "  " << std::setw(3) << std::lround(100.0 * fraction) << "%  "
-    << std::setw(5) << std::lround(msPerFrame) << " ms/frame  ETA "
-    << duration(msPerFrame * (f.total - done) / 1000.0);
+  s << "\r[" << std::string(size_t(filled), '#') << std::string(size_t(kWidth - filled), '-') << "] frame " << done
+    << "/" << f.total << "  " << std::setw(3) << std::lround(100.0 * fraction) << "%  " << std::setw(5)
+    << std::lround(msPerFrame) << " ms/frame  ETA " << duration(msPerFrame * (f.total - done) / 1000.0);
   if (!f.converged) s << "  (" << f.imagesWaiting << " waiting)";
   s << "   ";  // clears what a longer previous line left
   return s.str();
@@ -257,14 +271,13 @@ std::string findOnPath(const std::string& program) {
   while (std::getline(dirs, dir, ':')) {
     const fs::path candidate = fs::path(dir.empty() ? "." : dir) / program;
     std::error_code ec;
-    if (fs::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0)
-      return candidate.string();
+    if (fs::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0) return candidate.string();
   }
   return "";
 }
 
-std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const std::string& outDir, double fps,
-                                         int frames, const std::string& video) {
+std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const std::string& outDir, double fps, int frames,
+                                         const std::string& video) {
   std::ostringstream rate;
   rate << std::setprecision(10) << fps;
   return {ffmpeg, "-hide_banner", "-loglevel", "error", "-y", "-framerate", rate.str(), "-i",
@@ -276,8 +289,7 @@ std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const std::s
 }
 
 void addFlyCommand(CLI::App& app, int& exitCode) {
-  auto* cmd = app.add_subcommand(
-      "fly", "render a camera path (PATH.json) frame by frame to PNGs, optionally a video");
+  auto* cmd = app.add_subcommand("fly", "render a camera path (PATH.json) frame by frame to PNGs, optionally a video");
   auto o = std::make_shared<FlyOptions>();
   addViewOptions(*cmd, o->view, false);
   cmd->add_option("--path", o->path,
@@ -285,10 +297,8 @@ void addFlyCommand(CLI::App& app, int& exitCode) {
                   "makes one); or fly to the viewpoints given by --camera/--eye")
       ->check(CLI::ExistingFile);
   addViewpointOptions(*cmd, o->view.viewpoint);
-  cmd->add_option("--out", o->out, "output directory (<frame id>.png: f00000.png, f00001.png, ...)")
-      ->required();
-  cmd->add_option("--fps", o->fps, "frames per second along the path (default 25)")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--out", o->out, "output directory (<frame id>.png: f00000.png, f00001.png, ...)")->required();
+  cmd->add_option("--fps", o->fps, "frames per second along the path (default 25)")->check(CLI::PositiveNumber);
   cmd->add_flag("--progressive", o->progressive,
                 "render as a viewer does: one progressive frame per camera, improving as depth maps arrive "
                 "(default: every frame converged)");

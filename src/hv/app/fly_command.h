@@ -32,12 +32,17 @@ struct FlyFrame {
 using FlyProgress = std::function<void(const FlyFrame&)>;
 
 struct FlyResult {
-  int frames = 0;           // written
+  int frames = 0;  // written
   int convergedFrames = 0;
   double totalMs = 0.0;
+  double firstMs = 0.0;           // from the start to the end of the first frame written
+  int firstShown = -1;            // the first frame that shows a photograph (-1: none)
+  double firstShownMs = 0.0;      // from the start to its end
+  int firstConverged = -1;        // the first converged frame (-1: none)
+  double firstConvergedMs = 0.0;  // from the start to its end
   // Frames that could not be rendered or written, each named with its error ("frame 'f00012': ...").
   std::vector<std::string> failures;
-  bool gaveUp = false;      // kMaxConsecutiveFlyFailures frames failed in a row: the rest was not tried
+  bool gaveUp = false;  // kMaxConsecutiveFlyFailures frames failed in a row: the rest was not tried
 };
 
 // A failed frame is named and the path goes on; this many failures in a row (a full disk, a lost
@@ -71,7 +76,7 @@ std::string progressLine(const FlyFrame& frame);
 // The full path of an executable found on $PATH; empty when there is none.
 std::string findOnPath(const std::string& program);
 // ffmpeg's arguments (argv[0] included) to encode outDir/f00000.png ... as `video`.
-std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const std::string& outDir, double fps,
-                                         int frames, const std::string& video);
+std::vector<std::string> ffmpegArguments(const std::string& ffmpeg, const std::string& outDir, double fps, int frames,
+                                         const std::string& video);
 
 }  // namespace hv::app

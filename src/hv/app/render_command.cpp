@@ -15,6 +15,7 @@
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/session/outputs.h"
 #include "hv/session/session.h"
+#include "hv/util/image_sizes.h"
 #include "hv/util/log.h"
 #include "hv/viewer/navigation.h"
 
@@ -160,8 +161,8 @@ int runInfo(const std::string& scenePath) {
 std::optional<double> groundPlaneHeight(const std::string& scenePath) {
   std::ifstream in(scenePath);
   const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
-  if (doc.is_object() && doc.contains("terrain") && doc["terrain"].is_object() &&
-      doc["terrain"].contains("height") && doc["terrain"]["height"].is_number())
+  if (doc.is_object() && doc.contains("terrain") && doc["terrain"].is_object() && doc["terrain"].contains("height") &&
+      doc["terrain"]["height"].is_number())
     return doc["terrain"]["height"].get<double>();
   return std::nullopt;
 }
@@ -232,9 +233,26 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   }
   for (const auto& [s, n] : sizes) std::cout << "  " << std::setw(5) << n << " x " << s << "\n";
   std::cout << "  distorted " << distorted << ", masked " << masked << ", dated " << dated << "\n";
+  int sized = 0, previewed = 0;
+  std::string example;
+  for (const auto& p : scene.photos)
+    if (const auto z = imageSizes(p.imagePath)) {
+      ++sized;
+      if (z->preview.url.empty()) continue;
+      ++previewed;
+      if (example.empty())
+        example = " (camera '" + p.camera.id + "': " + std::to_string(z->preview.width) + "x" +
+                  std::to_string(z->preview.height) + " of " + std::to_string(p.camera.width) + "x" +
+                  std::to_string(p.camera.height) + ")";
+    }
+  if (sized > 0)
+    std::cout << "  " << sized << " from IIIF image services, " << previewed << " with a preview fetched first"
+              << example << ", then the size the image slot needs\n";
   if (!scene.photos.empty() && scene.buildings.empty() && scene.mesh.empty() && scene.points.empty())
     std::cout << "hint       no buildings, mesh or points: the photographs are projected onto "
-              << (scene.terrain.empty() ? "nothing but the sky" : ground ? "the ground plane" : "the terrain")
+              << (scene.terrain.empty() ? "nothing but the sky"
+                  : ground              ? "the ground plane"
+                                        : "the terrain")
               << " alone, so every facade smears across the ground. Building footprints (scene.json \"buildings\": "
                  "outlines with heights, GeoJSON or any OGR format, or CityJSON) would improve the result a lot"
               << (scene.terrain.empty() ? "; without them, \"terrain\": {\"height\": H} gives a ground plane" : "")
@@ -250,6 +268,7 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   } catch (const std::exception& e) {
     std::cout << "GL         unavailable: " << e.what() << "\n";
   }
+  std::cout << fetchedSummary();
   if (report.problems()) std::cout << report.problems() << " item(s) left out, listed above\n";
   return report.problems() ? kExitLeftOut : kExitOk;
 }
@@ -325,6 +344,7 @@ int runRender(const RenderOptions& o) {
     }
   }
   std::cout << "wrote " << (s->views.size() - size_t(failed)) << " view(s) to " << o.out << "\n";
+  std::cout << fetchedSummary();
   return exitStatus(diag, size_t(failed));
 }
 

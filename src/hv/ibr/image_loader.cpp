@@ -2,6 +2,7 @@
 
 #include "hv/image/image_header.h"
 #include "hv/util/diagnostics.h"
+#include "hv/util/image_sizes.h"
 #include "hv/util/input_file.h"
 
 #include <stb_image.h>
@@ -37,6 +38,12 @@ std::string decodeFailure(const std::string& path, const std::vector<std::uint8_
 }
 
 std::string cameraName(const Camera& camera) { return "camera '" + camera.id + "'"; }
+
+// The width of a camera's image in its slice, as makeSliceImage computes it (rounded up).
+int sliceContentWidth(const Camera& camera, SliceSize slice) {
+  const SliceLayout layout = sliceLayout(camera, slice, 0);
+  return std::clamp(int(std::ceil(layout.uvScale.x * slice.width * camera.width - 1e-6)), 1, slice.width);
+}
 
 // Bytes a decode of one file allocates at its peak (an upper bound, from stb_image 2.x's
 // allocation pattern): our copy of the file; stb's (PNG: the IDAT stream, grown by doubling, so up
@@ -102,7 +109,7 @@ ImageLoader::~ImageLoader() {
   for (auto& t : workers_) t.join();
 }
 
-ImageLoader::Requested ImageLoader::requestLocked(int photo, const Photo& source, double priority) {
+ImageLoader::Requested ImageLoader::requestLocked(int photo, const Photo& source, double priority, bool preview) {
   // A NaN would break the queue's ordering; such a photo goes last.
   if (std::isnan(priority)) priority = std::numeric_limits<double>::infinity();
   if (auto it = running_.find(photo); it != running_.end()) {
@@ -121,6 +128,15 @@ ImageLoader::Requested ImageLoader::requestLocked(int photo, const Photo& source
   Job job;
   job.camera = source.camera;
   job.imagePath = source.imagePath;
+  // A photograph its server offers at several sizes: the preview first when it is smaller than the
+  // image at the width of the slice, then that image.
+  if (const auto sizes = isHttpUrl(source.imagePath) ? imageSizes(source.imagePath) : nullptr;
+      sizes && sizes->atWidth && job.camera.width > 0 && job.camera.height > 0) {
+    const SizedImageUrl full = sizes->atWidth(sliceContentWidth(job.camera, slice_));
+    job.fullPath = full.url;
+    job.preview = preview && !sizes->preview.url.empty() && sizes->preview.width < full.width;
+    job.imagePath = job.preview ? sizes->preview.url : full.url;
+  }
   if (useMasks_) job.maskPath = source.maskPath;
   job.priority = priority;
   job.seq = nextSeq_++;
@@ -129,11 +145,18 @@ ImageLoader::Requested ImageLoader::requestLocked(int photo, const Photo& source
   return Requested::Added;
 }
 
-bool ImageLoader::request(int photo, const Photo& source, double priority) {
+void ImageLoader::skipPreview(Job& job) const {
+  if (!job.preview || job.probing) return;
+  job.preview = false;
+  job.imagePath = job.fullPath;
+  job.probe.reset();
+}
+
+bool ImageLoader::request(int photo, const Photo& source, double priority, bool preview) {
   Requested what;
   {
     std::lock_guard lock(mutex_);
-    what = requestLocked(photo, source, priority);
+    what = requestLocked(photo, source, priority, preview);
   }
   // Wake the workers only for a change of the queue (a reordering may change its head): the
   // renderer re-requests what it still misses every frame.
@@ -147,7 +170,7 @@ void ImageLoader::request(const std::vector<LoadRequest>& requests) {
     std::lock_guard lock(mutex_);
     for (const LoadRequest& r : requests) {
       if (!r.source) throw std::invalid_argument("image loader: request without a photo");
-      changed |= requestLocked(r.photo, *r.source, r.priority) != Requested::Unchanged;
+      changed |= requestLocked(r.photo, *r.source, r.priority, r.preview) != Requested::Unchanged;
     }
   }
   if (changed) workCv_.notify_all();
@@ -231,6 +254,7 @@ ImageLoader::Probe ImageLoader::probe(const Job& job) const {
   try {
     if (job.camera.width <= 0 || job.camera.height <= 0) throw InputError("the camera has no image size");
     p.image = probeFile(job.imagePath);
+    if (p.image.fetched) countImageFetch(job.preview, p.image.fileBytes);
     if (!job.maskPath.empty()) {
       field = "mask";
       p.mask = probeFile(job.maskPath);
@@ -295,6 +319,8 @@ LoadResult ImageLoader::decode(int photo, const Job& job, const Probe& probe) co
     field = nullptr;
     // makeSliceImage's own errors already read "camera 'ID': image is ..." / "...: mask is ...".
     r.slice = makeSliceImage(job.camera, colour, mask, slice_, who);
+    r.imageWidth = colour.width;
+    r.imageHeight = colour.height;
   } catch (const InputError& e) {
     r.error = field ? inputMessage(who, field, e.what()) : e.what();
   } catch (const std::exception& e) {  // out of memory, a resize failure: still only this photo
@@ -367,7 +393,24 @@ ImageLoader::Step ImageLoader::step(std::unique_lock<std::mutex>& lock) {
   running_.erase(rt);
   if (cancelled) r = LoadResult();  // freed before it stops being counted
   bytesInUse_ -= reserve;
-  if (!cancelled) {
+  bool deliver = !cancelled;
+  if (!cancelled && job.preview) {
+    // The image at the slice's width follows (waited for when the preview was); a preview that
+    // failed is dropped: the full image says whether the photo can be loaded.
+    Job next;
+    next.camera = std::move(job.camera);
+    next.imagePath = std::move(job.fullPath);
+    next.maskPath = std::move(job.maskPath);
+    next.priority = job.priority;
+    next.urgent = job.urgent;
+    next.second = true;
+    next.seq = nextSeq_++;
+    order_.insert(keyOf(head, next));
+    queued_.emplace(head, std::move(next));
+    r.preview = r.ok();
+    deliver = r.ok();
+  }
+  if (deliver) {
     if (r.ok()) bytesInUse_ += sliceBytes_;  // part of the reservation just released: no new peak
     ready_.push_back(std::move(r));
   }
@@ -423,6 +466,7 @@ void ImageLoader::wait(const std::vector<int>& photos, const std::function<void(
     if (it == queued_.end() || it->second.urgent) continue;
     order_.erase(keyOf(p, it->second));
     it->second.urgent = true;
+    skipPreview(it->second);  // a batch frame shows the full image: no preview unless one started
     order_.insert(keyOf(p, it->second));
   }
   workCv_.notify_all();

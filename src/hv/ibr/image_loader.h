@@ -30,8 +30,17 @@
 // of probed jobs still waiting for memory are outside the cap: at most a window of (threads + 1)
 // jobs is probed ahead.
 //
-// No low-resolution preview: stb_image has no reduced-scale decode, so a preview would cost the
-// full decode it is meant to avoid; it needs stored thumbnails or libjpeg's DCT scaling.
+// Previews: a photograph whose server offers it at several sizes (hv/util/image_sizes.h, a IIIF
+// image service) is fetched small first: its preview job gives a result marked `preview` (the
+// slice made from the small image, scaled up: the same projection), and then the same photo is
+// queued again for the image at the width its slice needs (never larger than the server's full
+// size), whose result replaces the preview. Every queued preview goes before every such second
+// job (then by priority). A photo waited for (wait()) skips the preview it has not started, and
+// its second job is waited for too; a request with `preview` false (batch frames) asks for the
+// full image only. A preview that fails is
+// dropped and the full image asked instead (its error, if any, is the one reported). A local file
+// has no preview: stb_image has no reduced-scale decode, so a preview would cost the full decode
+// it is meant to avoid.
 #pragma once
 
 #include "hv/ibr/slice_image.h"
@@ -58,6 +67,9 @@ struct LoadResult {
   int photo = -1;
   Image8 slice;       // premultiplied RGBA, slice.width x slice.height (sliceLayout's layout)
   std::string error;  // non-empty: the photo cannot be loaded, `slice` is empty
+  // The slice of a preview: the full image of this photo follows (the photo stays pending).
+  bool preview = false;
+  int imageWidth = 0, imageHeight = 0;  // the size of the image the slice was made from
   bool ok() const { return error.empty(); }
 };
 
@@ -65,6 +77,7 @@ struct LoadRequest {
   int photo = -1;
   const Photo* source = nullptr;  // copied by request(): need not outlive it
   double priority = 0.0;
+  bool preview = true;  // a preview first where the server offers one (false: batch frames)
 };
 
 class ImageLoader {
@@ -79,7 +92,8 @@ class ImageLoader {
   // Queues a decode of `photo` (the id the results carry; the renderer's index into
   // Scene::photos). Returns true when a new decode was queued; false when the photo is already
   // queued (its priority is updated), being decoded, or decoded and not yet collected.
-  bool request(int photo, const Photo& source, double priority);
+  // `preview` false: the full image only (a batch frame), even where a preview is offered.
+  bool request(int photo, const Photo& source, double priority, bool preview = true);
   // The same for many photos under one lock: a frame's requests are queued together, so the
   // workers see them all and start them in priority order.
   void request(const std::vector<LoadRequest>& requests);
@@ -130,12 +144,17 @@ class ImageLoader {
     std::string imagePath, maskPath;
     double priority = 0.0;
     bool urgent = false;  // waited for: ahead of every other job
+    // A preview job (imagePath the preview) is followed by a job of `fullPath`; a job that follows
+    // one (`second`) goes after every preview.
+    bool preview = false, second = false;
+    std::string fullPath;
     std::uint64_t seq = 0;
     bool probing = false;
     std::optional<Probe> probe;
   };
   struct Key {
     bool notUrgent;
+    bool second;
     double priority;
     std::uint64_t seq;
     int photo;
@@ -146,8 +165,9 @@ class ImageLoader {
   enum class Step { Empty, Busy, Blocked, Probed, Ran };
   enum class Requested { Unchanged, Reordered, Added };
 
-  static Key keyOf(int photo, const Job& job) { return {!job.urgent, job.priority, job.seq, photo}; }
-  Requested requestLocked(int photo, const Photo& source, double priority);
+  static Key keyOf(int photo, const Job& job) { return {!job.urgent, job.second, job.priority, job.seq, photo}; }
+  void skipPreview(Job& job) const;
+  Requested requestLocked(int photo, const Photo& source, double priority, bool preview);
   Step step(std::unique_lock<std::mutex>& lock);
   void workerLoop();
   Probe probe(const Job& job) const;

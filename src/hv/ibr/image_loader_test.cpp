@@ -1,8 +1,10 @@
 #include "hv/ibr/image_loader.h"
 
 #include "hv/ibr/slot_cache.h"
-#include "hv/util/diagnostics.h"
 #include "hv/image/native/png_write.h"
+#include "hv/util/diagnostics.h"
+#include "hv/util/image_sizes.h"
+#include "hv/util/input_file.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +18,9 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <iterator>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <set>
 #include <thread>
@@ -31,8 +35,7 @@ class ImageLoaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("hv_image_loader_test_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("hv_image_loader_test_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -43,8 +46,7 @@ class ImageLoaderTest : public ::testing::Test {
     Image8 im(w, h, channels);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
-        for (int c = 0; c < channels; ++c)
-          im.at(x, y, c) = std::uint8_t((seed * 53 + x * 29 + y * 71 + c * 97) % 256);
+        for (int c = 0; c < channels; ++c) im.at(x, y, c) = std::uint8_t((seed * 53 + x * 29 + y * 71 + c * 97) % 256);
     const std::string path = (dir_ / name).string();
     writePng(path, im);
     return path;
@@ -58,8 +60,7 @@ class ImageLoaderTest : public ::testing::Test {
     writePng(path, m);
     return path;
   }
-  static Photo photo(const std::string& id, int w, int h, const std::string& image,
-                     const std::string& mask = "") {
+  static Photo photo(const std::string& id, int w, int h, const std::string& image, const std::string& mask = "") {
     Photo p;
     p.camera.id = id;
     p.camera.width = w;
@@ -104,8 +105,7 @@ TEST_F(ImageLoaderTest, ResultsEqualMakeSliceImage) {
   for (int threads : {0, 1, 3}) {
     for (bool masks : {true, false}) {
       ImageLoader loader(slice, threads, 64 << 20, masks);
-      for (std::size_t i = 0; i < photos.size(); ++i)
-        EXPECT_TRUE(loader.request(int(i), photos[i], double(i)));
+      for (std::size_t i = 0; i < photos.size(); ++i) EXPECT_TRUE(loader.request(int(i), photos[i], double(i)));
       const auto results = pollAll(loader, photos.size());
       ASSERT_EQ(results.size(), photos.size()) << threads << " threads";
       std::set<int> seen;
@@ -212,15 +212,13 @@ TEST_F(ImageLoaderTest, CancelWhileDecodingDiscardsTheResult) {
   const std::size_t sliceBytes = 64 * 48 * 4;
   const auto waitRunning = [&] {
     const auto deadline = std::chrono::steady_clock::now() + 30s;
-    while (loader.bytesInUse() <= sliceBytes && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::yield();
+    while (loader.bytesInUse() <= sliceBytes && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
   };
   loader.request(1, big, 0.0);
   waitRunning();
   EXPECT_TRUE(loader.cancel(1));
   const auto deadline = std::chrono::steady_clock::now() + 30s;
-  while (loader.pending() > 0 && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(1ms);
+  while (loader.pending() > 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(1ms);
   EXPECT_EQ(loader.pending(), 0u);
   EXPECT_TRUE(loader.poll().empty());
   EXPECT_EQ(loader.bytesInUse(), 0u);
@@ -239,8 +237,7 @@ TEST_F(ImageLoaderTest, ZeroThreadsWorkThroughPollAndWait) {
   const SliceSize slice{8, 8};
   std::vector<Photo> photos;
   for (int i = 0; i < 10; ++i)
-    photos.push_back(
-        photo("cam" + std::to_string(i), 8, 8, writeImage("p" + std::to_string(i) + ".png", 8, 8, 3, i)));
+    photos.push_back(photo("cam" + std::to_string(i), 8, 8, writeImage("p" + std::to_string(i) + ".png", 8, 8, 3, i)));
   ImageLoader loader(slice, 0, 1 << 20);
   EXPECT_EQ(loader.workerThreads(), 0);
   for (int i = 0; i < 10; ++i) loader.request(i, photos[std::size_t(i)], double(i));
@@ -485,8 +482,7 @@ TEST_F(ImageLoaderTest, StreamsThroughSlotCache) {
         cache.unpinAll();
         std::vector<LoadRequest> missing;
         for (std::size_t k = 0; k < wanted.size(); ++k)
-          if (!cache.pin(wanted[k]))
-            missing.push_back({wanted[k], &photos[std::size_t(wanted[k])], double(k)});
+          if (!cache.pin(wanted[k])) missing.push_back({wanted[k], &photos[std::size_t(wanted[k])], double(k)});
         return missing;
       };
       if (vi % 2 == 0) {
@@ -517,6 +513,145 @@ TEST_F(ImageLoaderTest, StreamsThroughSlotCache) {
     EXPECT_GE(int(evicted.size()), 400);
     EXPECT_GE(reloads, 60);  // the way back needs photos evicted on the way out
   }
+}
+
+// A server of the test's folder for the remote reader: "http://h/NAME" is the file NAME, else an
+// HTTP 404 as GDAL's client words it.
+std::string gServed;
+std::string serveFolder(const std::string& url, std::uint64_t, const std::string&, RemoteCache) {
+  std::ifstream f(gServed + "/" + url.substr(url.rfind('/') + 1), std::ios::binary);
+  if (!f) throw InputError(url + ": HTTP error code : 404");
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+// Photographs a server offers at several sizes (hv/util/image_sizes.h, a IIIF service): a preview
+// first, then the image at the slice's width; previews before second jobs; wait() skips previews;
+// a failed preview falls back to the full image.
+TEST_F(ImageLoaderTest, PreviewFirstThenTheSliceWidth) {
+  gServed = dir_.string();
+  setRemoteReader(&serveFolder);
+  clearImageSizes();
+  resetImageFetchCounts();
+  // Cameras of 160 x 120 in slices of 80 x 60: the slice needs the image 80 pixels wide.
+  const SliceSize slice{80, 60};
+  writeImage("a-160.png", 160, 120, 3, 1);
+  const std::string a40 = writeImage("a-40.png", 40, 30, 3, 1);
+  const std::string a80 = writeImage("a-80.png", 80, 60, 3, 1);
+  writeImage("b-160.png", 160, 120, 3, 2);
+  writeImage("b-40.png", 40, 30, 3, 2);
+  writeImage("b-80.png", 80, 60, 3, 2);
+  std::vector<int> asked;
+  std::mutex askedMutex;
+  const auto sizesOf = [&](const std::string& name, const std::string& preview) {
+    ImageSizes z;
+    z.preview = {preview, 40, 30};
+    z.atWidth = [&, name](int w) {
+      std::lock_guard lock(askedMutex);
+      asked.push_back(w);
+      const int x = std::min(w, 160);
+      return SizedImageUrl{"http://h/" + name + "-" + std::to_string(x) + ".png", x, x * 3 / 4};
+    };
+    return z;
+  };
+  const Photo a = photo("a", 160, 120, "http://h/a-160.png"), b = photo("b", 160, 120, "http://h/b-160.png");
+  registerImageSizes(a.imagePath, sizesOf("a", "http://h/a-40.png"));
+  registerImageSizes(b.imagePath, sizesOf("b", "http://h/b-40.png"));
+  {
+    // One job per poll without threads: both previews (priority order), then both full images.
+    ImageLoader loader(slice, 0, 64 << 20);
+    loader.request(0, a, 1.0);
+    loader.request(1, b, 2.0);
+    std::vector<std::pair<int, bool>> order;
+    std::vector<LoadResult> results;
+    for (int i = 0; i < 4; ++i)
+      for (auto& r : loader.poll()) {
+        ASSERT_TRUE(r.ok()) << r.error;
+        order.emplace_back(r.photo, r.preview);
+        results.push_back(std::move(r));
+      }
+    EXPECT_EQ(order, (std::vector<std::pair<int, bool>>{{0, true}, {1, true}, {0, false}, {1, false}}));
+    ASSERT_EQ(results.size(), 4u);
+    EXPECT_EQ(results[0].imageWidth, 40);
+    EXPECT_EQ(results[2].imageWidth, 80);
+    EXPECT_EQ(results[2].imageHeight, 60);
+    EXPECT_TRUE(loader.isPending(0) == false && loader.pending() == 0u);
+    // The preview is the same image scaled up into the same slice layout; the full one is as
+    // makeSliceImage makes it from the 80-pixel image.
+    Photo local = a;
+    local.imagePath = a40;
+    EXPECT_TRUE(results[0].slice.data == expectedSlice(local, slice).data);
+    local.imagePath = a80;
+    EXPECT_TRUE(results[2].slice.data == expectedSlice(local, slice).data);
+    EXPECT_EQ(asked, (std::vector<int>{80, 80}));
+    const ImageFetchCounts c = imageFetchCounts();
+    EXPECT_EQ(c.previews, 2u);
+    EXPECT_EQ(c.images, 2u);
+    EXPECT_EQ(c.previewBytes, fs::file_size(a40) + fs::file_size(dir_ / "b-40.png"));
+    EXPECT_EQ(c.imageBytes, fs::file_size(a80) + fs::file_size(dir_ / "b-80.png"));
+  }
+  {
+    // A batch frame waits for the full image: no preview.
+    resetImageFetchCounts();
+    ImageLoader loader(slice, 0, 64 << 20);
+    loader.request(0, a, 1.0);
+    std::vector<LoadResult> results;
+    loader.wait({0}, [&](LoadResult&& r) { results.push_back(std::move(r)); });
+    ASSERT_EQ(results.size(), 1u);
+    EXPECT_TRUE(results[0].ok()) << results[0].error;
+    EXPECT_FALSE(results[0].preview);
+    EXPECT_EQ(results[0].imageWidth, 80);
+    EXPECT_EQ(imageFetchCounts().previews, 0u);
+    // Asked without a preview (a batch frame's request), with workers: the full image only.
+    ImageLoader workers(slice, 2, 64 << 20);
+    workers.request(0, a, 1.0, false);
+    const auto only = pollAll(workers, 1);
+    ASSERT_EQ(only.size(), 1u);
+    EXPECT_FALSE(only[0].preview);
+    EXPECT_EQ(only[0].imageWidth, 80);
+    EXPECT_FALSE(workers.isPending(0));
+    EXPECT_EQ(imageFetchCounts().previews, 0u);
+  }
+  {
+    // With workers: the preview, then the full image.
+    ImageLoader loader(slice, 2, 64 << 20);
+    loader.request(0, a, 1.0);
+    const auto both = pollAll(loader, 2);
+    ASSERT_EQ(both.size(), 2u);
+    EXPECT_TRUE(both[0].preview);
+    EXPECT_FALSE(both[1].preview);
+    EXPECT_EQ(both[1].imageWidth, 80);
+  }
+  {
+    // wait() after the preview waits for the full image.
+    ImageLoader loader(slice, 0, 64 << 20);
+    loader.request(0, a, 1.0);
+    const auto first = loader.poll();
+    ASSERT_EQ(first.size(), 1u);
+    EXPECT_TRUE(first[0].preview);
+    EXPECT_TRUE(loader.isPending(0));
+    std::vector<LoadResult> rest;
+    loader.wait({0}, [&](LoadResult&& r) { rest.push_back(std::move(r)); });
+    ASSERT_EQ(rest.size(), 1u);
+    EXPECT_FALSE(rest[0].preview);
+    EXPECT_EQ(rest[0].imageWidth, 80);
+    EXPECT_FALSE(loader.isPending(0));
+  }
+  {
+    // A preview that cannot be fetched is dropped: the full image comes, alone.
+    const Photo c = photo("c", 160, 120, "http://h/b-160.png#c");
+    registerImageSizes(c.imagePath, sizesOf("b", "http://h/missing.png"));
+    ImageLoader loader(slice, 1, 64 << 20);
+    loader.request(0, c, 1.0);
+    std::vector<LoadResult> results;
+    loader.wait({0}, [&](LoadResult&& r) { results.push_back(std::move(r)); });
+    const auto late = loader.poll();
+    ASSERT_EQ(results.size() + late.size(), 1u);
+    const LoadResult& r = results.empty() ? late[0] : results[0];
+    EXPECT_TRUE(r.ok()) << r.error;
+    EXPECT_FALSE(r.preview);
+  }
+  clearImageSizes();
+  setRemoteReader(nullptr);
 }
 
 }  // namespace

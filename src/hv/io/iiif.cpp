@@ -95,6 +95,26 @@ IiifImageInfo parseIiifInfo(const std::string& text, const std::string& url) {
     }
     std::sort(info.sizes.begin(), info.sizes.end());
   }
+  if (j.contains("tiles")) {
+    const std::string where = url + ": tiles";
+    if (!j["tiles"].is_array())
+      throw InputError(inputMessage(url, "tiles", "expected an array of {width, scaleFactors}"));
+    for (const json& t : j["tiles"]) {
+      if (!t.is_object()) throw InputError(inputMessage(url, "tiles", "expected objects {width, scaleFactors}"));
+      IiifImageInfo::Tiles tiles;
+      tiles.width = positiveInt(t, "width", where, true);
+      tiles.height = positiveInt(t, "height", where, false);
+      if (tiles.height == 0) tiles.height = tiles.width;
+      if (!t.contains("scaleFactors") || !t["scaleFactors"].is_array())
+        throw InputError(inputMessage(where, "scaleFactors", "expected an array of positive integers"));
+      for (const json& f : t["scaleFactors"]) {
+        if (!f.is_number_integer() || f.get<long long>() <= 0 || f.get<long long>() > std::numeric_limits<int>::max())
+          throw InputError(inputMessage(where, "scaleFactors", "expected positive integers, got " + f.dump()));
+        tiles.scaleFactors.push_back(f.get<int>());
+      }
+      info.tiles.push_back(std::move(tiles));
+    }
+  }
   const json profile = j.contains("profile") ? j["profile"] : json();
   info.level0 = mentions(profile, "level0");
   return info;
@@ -109,17 +129,47 @@ std::string iiifSizeMismatch(const IiifImageInfo& info, int cameraWidth, int cam
          ": the aspect ratios disagree (expected the same within 1%)";
 }
 
+std::vector<std::pair<int, int>> iiifLevel0Sizes(const IiifImageInfo& info) {
+  std::vector<std::pair<int, int>> sizes = info.sizes;
+  const auto up = [](int n, int s) { return int((static_cast<long long>(n) + s - 1) / s); };
+  for (const IiifImageInfo::Tiles& t : info.tiles)
+    for (int s : t.scaleFactors)
+      // One tile covers the image at this scale: the tile request of its region `full` is the whole
+      // image at ceil(width / s) x ceil(height / s). Scale factor 1 is the full size itself.
+      if (s > 1 && static_cast<long long>(t.width) * s >= info.width &&
+          static_cast<long long>(t.height) * s >= info.height)
+        sizes.emplace_back(up(info.width, s), up(info.height, s));
+  std::sort(sizes.begin(), sizes.end());
+  sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+  return sizes;
+}
+
+IiifRequest iiifPreviewRequest(const IiifImageInfo& info, int box) {
+  box = std::max(box, 1);
+  // The image fitted in box x box: the longer side is `box` (never more than the full size).
+  const int w = info.width >= info.height
+                    ? std::min(box, info.width)
+                    : std::max(1, int(std::lround(double(std::min(box, info.height)) * info.width / info.height)));
+  return iiifRequest(info, w);
+}
+
 IiifRequest iiifRequest(const IiifImageInfo& info, int wantWidth) {
   const std::string region = info.base + "/full/";
   const std::string tail = "/0/default.jpg";
   IiifRequest r;
   const auto heightOf = [&](int w) { return std::max(1, int(std::lround(double(w) * info.height / info.width))); };
   if (info.level0) {
-    // Only the listed sizes are served; the full size always is.
-    const auto fits = std::find_if(info.sizes.begin(), info.sizes.end(),
-                                   [&](const std::pair<int, int>& s) { return s.first >= wantWidth; });
-    if (fits != info.sizes.end() || !info.sizes.empty()) {
-      const std::pair<int, int> s = fits != info.sizes.end() ? *fits : info.sizes.back();
+    // Only the sizes of iiifLevel0Sizes are served, and the full size ("max" / "full"), which the
+    // service's limits may shrink: past the largest size that fits, the full size when the limits
+    // allow it, else the largest size served.
+    const std::vector<std::pair<int, int>> sizes = iiifLevel0Sizes(info);
+    const auto fits =
+        std::find_if(sizes.begin(), sizes.end(), [&](const std::pair<int, int>& s) { return s.first >= wantWidth; });
+    const bool fullWithinLimits = (info.maxWidth == 0 || info.width <= info.maxWidth) &&
+                                  (info.maxHeight == 0 || info.height <= info.maxHeight) &&
+                                  (info.maxArea == 0 || (long long)info.width * info.height <= info.maxArea);
+    if (fits != sizes.end() || (!sizes.empty() && !fullWithinLimits)) {
+      const std::pair<int, int> s = fits != sizes.end() ? *fits : sizes.back();
       r.width = s.first, r.height = s.second;
       r.url = region + std::to_string(s.first) + "," + (info.version == 3 ? std::to_string(s.second) : "") + tail;
       return r;

@@ -123,5 +123,81 @@ TEST(Iiif, BadDescriptionsNameTheUrlAndField) {
             std::string::npos);
 }
 
+// The preview (a small size first) and the sizes a level-0 service serves, computed by hand.
+TEST(Iiif, PreviewFitsTheBoxAndTheServiceLimits) {
+  const IiifImageInfo v3 = parseIiifInfo(kV3, "https://example.org/iiif/photo/info.json");
+  // 6000 x 4000 in 256 x 256: 256 wide, 4000 * 256 / 6000 = 170.67 -> 171 high.
+  IiifRequest p = iiifPreviewRequest(v3);
+  EXPECT_EQ(p.url, "https://example.org/iiif/photo/full/256,171/0/default.jpg");
+  EXPECT_EQ(p.width, 256);
+  EXPECT_EQ(p.height, 171);
+  // Portrait 3000 x 4000: 256 high, 3000 * 256 / 4000 = 192 wide.
+  const IiifImageInfo portrait = parseIiifInfo(
+      R"({"@context": "http://iiif.io/api/image/3/context.json", "profile": "level1", "width": 3000, "height": 4000})",
+      "http://h/p/info.json");
+  p = iiifPreviewRequest(portrait);
+  EXPECT_EQ(p.url, "http://h/p/full/192,256/0/default.jpg");
+  // The Image API 2 asks by width: 1000 x 750 gives 256 x 192 ("256,").
+  const IiifImageInfo v2 = parseIiifInfo(kV2, "http://h/q/info.json");
+  p = iiifPreviewRequest(v2);
+  EXPECT_EQ(p.url, "http://h/q/full/256,/0/default.jpg");
+  EXPECT_EQ(p.height, 192);
+  // maxWidth 100 below the box: 100 x 67 (4000 * 100 / 6000 = 66.67).
+  std::string limited = kV3;
+  limited.insert(limited.rfind('}'), R"(, "maxWidth": 100)");
+  p = iiifPreviewRequest(parseIiifInfo(limited, "http://h/p/info.json"));
+  EXPECT_EQ(p.url, "http://h/p/full/100,67/0/default.jpg");
+  // maxArea 10000 (a 122 x 81 image: 122 * 81 = 9882; 123 * 82 = 10086 is over).
+  limited = kV3;
+  limited.insert(limited.rfind('}'), R"(, "maxArea": 10000)");
+  p = iiifPreviewRequest(parseIiifInfo(limited, "http://h/p/info.json"));
+  EXPECT_EQ(p.width, 122);
+  EXPECT_EQ(p.height, 81);
+  // An image smaller than the box: the preview is the full size (nothing worth fetching first).
+  const IiifImageInfo small = parseIiifInfo(
+      R"({"@context": "http://iiif.io/api/image/3/context.json", "profile": "level2", "width": 200, "height": 100})",
+      "http://h/s/info.json");
+  EXPECT_EQ(iiifPreviewRequest(small).width, 200);
+}
+
+TEST(Iiif, Level0ServesListedSizesAndSingleTiles) {
+  // 6000 x 4000 in 512-pixel tiles at scale factors 1..16: one tile covers the image at 16
+  // (512 * 16 = 8192 >= 6000), not at 8 (4096 < 6000): ceil(6000 / 16) x ceil(4000 / 16) = 375 x 250.
+  std::string tiled = R"({"@context": "http://iiif.io/api/image/3/context.json", "profile": "level0",
+                          "width": 6000, "height": 4000,
+                          "tiles": [{"width": 512, "scaleFactors": [1, 2, 4, 8, 16]}]})";
+  IiifImageInfo info = parseIiifInfo(tiled, "http://h/t/info.json");
+  ASSERT_EQ(info.tiles.size(), 1u);
+  EXPECT_EQ(info.tiles[0].height, 512);  // the width when not given
+  EXPECT_EQ(iiifLevel0Sizes(info), (std::vector<std::pair<int, int>>{{375, 250}}));
+  EXPECT_EQ(iiifPreviewRequest(info).url, "http://h/t/full/375,250/0/default.jpg");
+  // Wider than any size served, within no limit: the full size.
+  EXPECT_EQ(iiifRequest(info, 3000).url, "http://h/t/full/max/0/default.jpg");
+  // Tiles of 256 x 200 at 32: 256 * 32 = 8192 >= 6000 and 200 * 32 = 6400 >= 4000, at 16 not
+  // (200 * 16 = 3200 < 4000): ceil(6000 / 32) = 188, ceil(4000 / 32) = 125; listed sizes join them.
+  tiled =
+      R"({"@context": "http://iiif.io/api/image/2/context.json", "profile": ["http://iiif.io/api/image/2/level0.json"],
+              "width": 6000, "height": 4000, "sizes": [{"width": 750, "height": 500}],
+              "tiles": [{"width": 256, "height": 200, "scaleFactors": [1, 4, 16, 32]}]})";
+  info = parseIiifInfo(tiled, "http://h/u/info.json");
+  EXPECT_EQ(iiifLevel0Sizes(info), (std::vector<std::pair<int, int>>{{188, 125}, {750, 500}}));
+  // The preview (256 wide wanted): the smallest served size at least 256 wide, 750 x 500.
+  EXPECT_EQ(iiifPreviewRequest(info).url, "http://h/u/full/750,/0/default.jpg");
+  EXPECT_EQ(iiifRequest(info, 100).url, "http://h/u/full/188,/0/default.jpg");
+  EXPECT_EQ(iiifRequest(info, 1000).url, "http://h/u/full/full/0/default.jpg");
+  // Bad tiles name the field.
+  try {
+    parseIiifInfo(R"({"@context": "http://iiif.io/api/image/3/context.json", "width": 4, "height": 3,
+                      "tiles": [{"width": 2, "scaleFactors": [1, 0]}]})",
+                  "http://h/b/info.json");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("http://h/b/info.json: tiles: scaleFactors: expected positive integers, got 0"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace hv

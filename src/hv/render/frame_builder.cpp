@@ -44,9 +44,9 @@ FrameBuilder::FrameBuilder(const Scene& scene, const RenderSettings& settings, D
         std::make_unique<TerrainStream>(*scene_.terrainTiles, scene_.origin, std::max(0, settings_.geometryThreads),
                                         std::max<std::size_t>(1, settings_.geometryMemoryBytes));
   if (scene_.buildingTiles)
-    buildings_ = std::make_unique<BuildingStream>(scene_.buildingTiles, scene_.origin,
-                                                  std::max(0, settings_.geometryThreads),
-                                                  std::max<std::size_t>(1, settings_.geometryMemoryBytes));
+    buildings_ =
+        std::make_unique<BuildingStream>(scene_.buildingTiles, scene_.origin, std::max(0, settings_.geometryThreads),
+                                         std::max<std::size_t>(1, settings_.geometryMemoryBytes));
   if (settings_.points.enabled) initPoints();
   allocateSlots();
   photoBroken_.assign(scene_.photos.size(), false);
@@ -102,6 +102,7 @@ void FrameBuilder::allocateSlots() {
   layout_.slots = slots;
   layout_.binding = settings_.binding;
   cache_ = ibr::SlotCache(slots);
+  slotPreview_.assign(size_t(slots), false);
   stats_.sliceBytes = perSlot * size_t(slots);
   loader_ = makeLoader();
   depthScheduler_.resize(slots);
@@ -130,10 +131,24 @@ void FrameBuilder::install(ibr::LoadResult&& r, bool neededNow) {
     return;
   }
   const ibr::SlotCache::Grant grant = cache_.acquire(r.photo, neededNow);
-  if (!grant || !grant.isNew) return;  // every slot pinned (it will be asked for again), or already there
+  if (!grant) return;  // every slot pinned (it will be asked for again)
+  const std::string size = std::to_string(r.imageWidth) + "x" + std::to_string(r.imageHeight);
+  if (!grant.isNew) {
+    // Already there: the full image replaces its preview. A preview is the same image scaled
+    // down uniformly, made into the same slice layout, so the projection and the depth map stay.
+    if (!r.preview && slotPreview_[size_t(grant.slot)]) {
+      backend_.uploadImage(grant.slot, r.slice);
+      slotPreview_[size_t(grant.slot)] = false;
+      log::debug("camera '" + p.camera.id + "': image " + size + " replaces its preview in slot " +
+                 std::to_string(grant.slot));
+    }
+    return;
+  }
   depthScheduler_.markDirty(grant.slot);
   slotFrustum_[size_t(grant.slot)] = depthFrustum(r.photo);
   backend_.uploadImage(grant.slot, r.slice);
+  slotPreview_[size_t(grant.slot)] = r.preview;
+  if (r.preview) log::debug("camera '" + p.camera.id + "': preview " + size + " in slot " + std::to_string(grant.slot));
   ++stats_.imagesLoaded;
 }
 
@@ -153,7 +168,8 @@ bool FrameBuilder::makeResident(FrameMode mode) {
     }
     if (cache_.pin(im.photo)) continue;
     missing.push_back(im.photo);
-    requests.push_back({im.photo, &scene_.photos[size_t(im.photo)], im.distance});
+    // A batch frame waits for the full images: no preview first.
+    requests.push_back({im.photo, &scene_.photos[size_t(im.photo)], im.distance, mode != FrameMode::Batch});
   }
   loader_->request(requests);
   auto needed = [&](int photo) { return std::find(missing.begin(), missing.end(), photo) != missing.end(); };
@@ -298,6 +314,7 @@ void FrameBuilder::reloadPhotographs() {
   loader_ = makeLoader();
   loaderMasks_ = settings_.blend.masks;
   cache_.clear();
+  slotPreview_.assign(slotPreview_.size(), false);
   photoBroken_.assign(scene_.photos.size(), false);
   depthScheduler_.markAllDirty();
 }
@@ -326,7 +343,7 @@ int FrameBuilder::prepareDebugPhoto(FrameMode mode) {
       photoBroken_[size_t(photo)])
     return -1;
   if (cache_.pin(photo)) return cache_.slotOf(photo);
-  loader_->request(photo, scene_.photos[size_t(photo)], 0.0);
+  loader_->request(photo, scene_.photos[size_t(photo)], 0.0, mode != FrameMode::Batch);
   auto sink = [&](ibr::LoadResult&& r) {
     const int p = r.photo;
     install(std::move(r), p == photo);
@@ -350,7 +367,8 @@ DepthMapJob FrameBuilder::depthMapJob(int slot) const {
   job.pushBack = meshPushBack();
   job.layers = {settings_.layers.terrain, settings_.layers.buildings, settings_.layers.mesh};
   job.draws = visibleRanges(tiles_, job.layers, job.clipFromRender, settings_.geometryCulling, &job.tiles);
-  if (terrain_ && job.layers[kLayerTerrain]) job.streamedTiles = visibleTerrain(slotCut_[size_t(slot)], job.clipFromRender);
+  if (terrain_ && job.layers[kLayerTerrain])
+    job.streamedTiles = visibleTerrain(slotCut_[size_t(slot)], job.clipFromRender);
   if (buildings_ && job.layers[kLayerBuildings]) {
     const std::vector<std::uint64_t> b = visibleBuildings(slotBuildingCut_[size_t(slot)], job.clipFromRender);
     job.streamedTiles.insert(job.streamedTiles.end(), b.begin(), b.end());
@@ -424,6 +442,7 @@ void FrameBuilder::packParams(Frame& f) {
   params_.clear();
   const double biasAbs = depthBiasAbsolute();
   stats_.imagesWaiting = stats_.decodesWaiting = stats_.depthMapsWaiting = 0;
+  previewsShown_ = 0;
   for (size_t i = 0; i < f.plan.images.size(); ++i) {
     if (layeredPhoto(f.plan.images[i].photo)) {
       packLayered(f, f.plan.images[i]);
@@ -436,6 +455,7 @@ void FrameBuilder::packParams(Frame& f) {
       continue;
     }
     const int photo = f.plan.images[i].photo;
+    if (slotPreview_[size_t(slot)]) ++previewsShown_;
     const Camera cam = photoCamera(photo);
     const hv::PinholeFrustum& fr = slotFrustum_[size_t(slot)];
     const double texel = std::max((fr.pxMax.x - fr.pxMin.x) / (layout_.depthSize * cam.focal.x),
@@ -483,6 +503,11 @@ Frame FrameBuilder::build(const Camera& view, FrameMode mode, bool withCounts) {
   debugWaiting_ = settings_.debug.view == DebugView::DepthMap && debugSlot < 0 && settings_.debug.photo >= 0 &&
                   loader_->isPending(settings_.debug.photo);
   packParams(f);
+  // What a frame shows of its photographs: previews stand in for full images still loading.
+  if (log::level() == log::Level::Debug)
+    log::debug("frame " + std::to_string(f.number) + (mode == FrameMode::Batch ? " (batch)" : " (progressive)") + ": " +
+               std::to_string(params_.size()) + " images shown, " + std::to_string(previewsShown_) + " as previews, " +
+               std::to_string(stats_.imagesWaiting) + " waiting");
 
   stats_.residentImages = cache_.residentCount();
   stats_.debugSlot = debugSlot >= 0 ? debugSlot : cache_.slotOf(settings_.debug.photo);

@@ -43,9 +43,13 @@ class FrameBuilder {
   // Makes the images a view needs resident without building a frame.
   void preload(const Camera& view);
 
+  // Converged: nothing waits, and no image is shown as its preview (ibr::ImageLoader).
   bool converged() const {
-    return stats_.imagesWaiting == 0 && !debugWaiting_ && terrainMissing_ == 0 && buildingsMissing_ == 0;
+    return stats_.imagesWaiting == 0 && previewsShown_ == 0 && !debugWaiting_ && terrainMissing_ == 0 &&
+           buildingsMissing_ == 0;
   }
+  // The images of the last frame shown as their preview (their full image still loading).
+  int previewsShown() const { return previewsShown_; }
   // The streamed terrain (null without Scene::terrainTiles) and buildings (null without
   // Scene::buildingTiles).
   const TerrainStream* terrainStream() const { return terrain_.get(); }
@@ -155,6 +159,8 @@ class FrameBuilder {
 
   SlotLayout layout_;
   ibr::SlotCache cache_;
+  std::vector<bool> slotPreview_;  // the slot holds a photograph's preview (its full image follows)
+  int previewsShown_ = 0;
   std::unique_ptr<ibr::ImageLoader> loader_;
   bool loaderMasks_ = true;
   ibr::DepthMapScheduler depthScheduler_;

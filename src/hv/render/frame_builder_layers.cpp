@@ -77,6 +77,7 @@ void FrameBuilder::installSubImage(int key) {
   if (!grant || !grant.isNew) return;  // every slot pinned (the photograph waits), or already there
   depthScheduler_.markDirty(grant.slot);
   slotFrustum_[size_t(grant.slot)] = subImageDepthFrustum(key);
+  slotPreview_[size_t(grant.slot)] = false;
   slotCut_[size_t(grant.slot)].clear();
   slotCutDrawn_[size_t(grant.slot)].clear();
   backend_.uploadImage(grant.slot, subImageSlice(key));

@@ -1,5 +1,8 @@
 #include "hv/session/outputs.h"
 
+#include "hv/io/native/remote.h"
+#include "hv/util/image_sizes.h"
+
 #include <cstdint>
 #include <cstdio>
 
@@ -25,10 +28,14 @@ std::size_t utf8Length(const std::string& s, std::size_t i) {
   if (c < 0x80) return 1;
   std::size_t n = 0;
   std::uint32_t cp = 0;
-  if ((c & 0xe0) == 0xc0) n = 2, cp = c & 0x1f;
-  else if ((c & 0xf0) == 0xe0) n = 3, cp = c & 0x0f;
-  else if ((c & 0xf8) == 0xf0) n = 4, cp = c & 0x07;
-  else return 0;
+  if ((c & 0xe0) == 0xc0)
+    n = 2, cp = c & 0x1f;
+  else if ((c & 0xf0) == 0xe0)
+    n = 3, cp = c & 0x0f;
+  else if ((c & 0xf8) == 0xf0)
+    n = 4, cp = c & 0x07;
+  else
+    return 0;
   if (i + n > s.size()) return 0;
   for (std::size_t k = 1; k < n; ++k) {
     if ((b(i + k) & 0xc0) != 0x80) return 0;
@@ -122,6 +129,21 @@ std::string OutputNames::stem(const std::string& id, std::string* note) {
             ")";
   }
   return name;
+}
+
+std::string fetchedSummary() {
+  const ImageFetchCounts images = imageFetchCounts();
+  const RemoteFetchCounts remote = remoteFetchCounts();
+  std::string out;
+  if (images.previews + images.images > 0)
+    out += "photographs read by URL: " + std::to_string(images.previews) + " previews, " +
+           std::to_string(images.previewBytes) + " bytes; " + std::to_string(images.images) + " full images, " +
+           std::to_string(images.imageBytes) + " bytes\n";
+  if (remote.fetched + remote.cached > 0)
+    out += "http(s) responses: " + std::to_string(remote.fetched) + " fetched, " + std::to_string(remote.fetchedBytes) +
+           " bytes; " + std::to_string(remote.cached) + " from the response cache, " +
+           std::to_string(remote.cachedBytes) + " bytes\n";
+  return out;
 }
 
 }  // namespace hv::app

@@ -13,10 +13,10 @@ namespace hv::app {
 
 // Exit statuses, the same for every command (docs/reliability.md, `histoview --help`).
 enum ExitStatus : int {
-  kExitOk = 0,            // everything asked for was produced, nothing left out
-  kExitNotProduced = 1,   // something asked for could not be produced (or `check`: something would be left out)
-  kExitNoScene = 2,       // the scene (or the command's main input) cannot be loaded
-  kExitLeftOut = 3,       // everything asked for was produced, some input items were left out
+  kExitOk = 0,           // everything asked for was produced, nothing left out
+  kExitNotProduced = 1,  // something asked for could not be produced (or `check`: something would be left out)
+  kExitNoScene = 2,      // the scene (or the command's main input) cannot be loaded
+  kExitLeftOut = 3,      // everything asked for was produced, some input items were left out
 };
 
 // `notProduced`: outputs asked for that could not be written; diag.errors: input items (camera,
@@ -26,6 +26,12 @@ int exitStatus(const Diagnostics& diag, std::size_t notProduced = 0);
 
 // The policy in a few lines, for `--help` and the messages.
 const char* exitStatusHelp();
+
+// What the command read over http(s) (docs/services.md, "Photographs by URL and IIIF"): one line
+// of the photographs the renderer's image loader read, previews (a IIIF image service's small
+// size) apart from full images, and one of the responses fetched from servers and read from the
+// response cache. "" when nothing was read remotely.
+std::string fetchedSummary();
 
 // Longest stem outputFileName returns, in bytes: with a command's longest suffix
 // (".count-preview.png") it stays well under the 255 bytes of common file systems.

@@ -63,4 +63,12 @@ std::uint64_t trimResponseCache(const std::string& folder, std::uint64_t capByte
 std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std::string& what,
                        RemoteCache cache = RemoteCache::No);
 
+// What readRemote read over http(s) since the process started: responses (and their bytes)
+// fetched from the servers and read from the response cache. Failed requests are not counted.
+struct RemoteFetchCounts {
+  std::uint64_t fetched = 0, fetchedBytes = 0;
+  std::uint64_t cached = 0, cachedBytes = 0;
+};
+RemoteFetchCounts remoteFetchCounts();
+
 }  // namespace hv

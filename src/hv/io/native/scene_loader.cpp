@@ -30,6 +30,7 @@
 #include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/util/diagnostics.h"
+#include "hv/util/image_sizes.h"
 #include "hv/util/input_file.h"
 #include "hv/util/log.h"
 
@@ -55,9 +56,10 @@ using nlohmann::json;
 
 // Photographs from IIIF image services (docs/services.md): each camera whose image is a service's
 // info.json is given the URL of the whole image at the camera's size (never larger than the
-// service's image). A description that cannot be read, or whose image has another aspect ratio than
-// the camera's, leaves that photograph out, named. The descriptions are fetched a few at a time
-// (through the response cache).
+// service's image), and its sizes are registered for the renderer (a preview first, then the
+// slice's width; hv/util/image_sizes.h). A description that cannot be read, or whose image has another aspect ratio
+// than the camera's, leaves that photograph out, named. The descriptions are fetched a few at a time (through the
+// response cache).
 void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
   std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < photos.size(); ++i)
@@ -74,9 +76,23 @@ void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
         if (const std::string why = iiifSizeMismatch(info, p.camera.width, p.camera.height); !why.empty())
           throw InputError(inputMessage(url, "", why));
         const IiifRequest request = iiifRequest(info, p.camera.width);
+        // The preview: fitted in 256 x 256, or in a quarter of the camera's longer side when that
+        // is smaller (a preview near the full size would save nothing).
+        const int box = std::min(kIiifPreviewBox, std::max(1, std::max(p.camera.width, p.camera.height) / 4));
+        const IiifRequest preview = iiifPreviewRequest(info, box);
         log::debug("camera '" + p.camera.id + "': IIIF " + std::to_string(info.version) + " " +
-                   std::to_string(info.width) + "x" + std::to_string(info.height) + ": " + request.url);
+                   std::to_string(info.width) + "x" + std::to_string(info.height) + ": " + request.url + " (preview " +
+                   std::to_string(preview.width) + "x" + std::to_string(preview.height) + ")");
         p.imagePath = request.url;
+        // The renderer's image loader fetches the preview first, then the image at its slice's
+        // width (hv/util/image_sizes.h); the other readers take imagePath, at the camera's size.
+        ImageSizes sizes;
+        if (preview.width < request.width) sizes.preview = {preview.url, preview.width, preview.height};
+        sizes.atWidth = [info](int width) {
+          const IiifRequest r = iiifRequest(info, width);
+          return SizedImageUrl{r.url, r.width, r.height};
+        };
+        registerImageSizes(request.url, std::move(sizes));
       } catch (const std::exception& e) {
         errors[pending[k]] = inputMessage("camera '" + p.camera.id + "'", "image", e.what()) + " (photograph left out)";
       }
@@ -279,9 +295,9 @@ std::optional<PointTilesetRequest> pointTilesetRequest(const json& doc, const st
     throw InputError(path + ": points: expected either a path (a point file) or a tileset (3D Tiles), not both");
   if (tileset && !e["tileset"].is_string())
     throw InputError(path + ": points.tileset: expected the URL or path of a 3D Tiles tileset.json (string)");
-  const std::string url = tileset                                            ? e["tileset"].get<std::string>()
+  const std::string url = tileset                                       ? e["tileset"].get<std::string>()
                           : e.contains("path") && e["path"].is_string() ? e["path"].get<std::string>()
-                                                                             : std::string();
+                                                                        : std::string();
   if (!tileset && !isTilesetPath(url)) {
     for (const char* key : {"tolerance", "budget"})
       if (e.contains(key))

@@ -32,6 +32,20 @@ bool startsWithNoCase(const std::string& s, const char* prefix) { return STARTS_
 
 std::string sizeLimitText(std::uint64_t bytes) { return std::to_string(bytes) + " bytes"; }
 
+std::mutex gCountsMutex;
+RemoteFetchCounts gCounts;
+
+void countResponse(bool fromCache, std::uint64_t bytes) {
+  std::lock_guard lock(gCountsMutex);
+  if (fromCache) {
+    ++gCounts.cached;
+    gCounts.cachedBytes += bytes;
+  } else {
+    ++gCounts.fetched;
+    gCounts.fetchedBytes += bytes;
+  }
+}
+
 std::string readHttp(const std::string& url, std::uint64_t maxBytes, const std::string& what) {
   const std::string maxSize = "MAX_FILE_SIZE=" + std::to_string(maxBytes);
   const char* const options[] = {maxSize.c_str(), nullptr};
@@ -47,6 +61,8 @@ std::string readHttp(const std::string& url, std::uint64_t maxBytes, const std::
     throw InputError(inputMessage(
         url, what,
         "the response is over the limit of " + sizeLimitText(maxBytes) + " for this input (docs/formats.md, Limits)"));
+  countResponse(false, std::uint64_t(result->nDataLen));
+  log::debug(url + ": " + std::to_string(result->nDataLen) + " bytes fetched");
   return std::string(reinterpret_cast<const char*>(result->pabyData), std::size_t(result->nDataLen));
 }
 
@@ -207,6 +223,11 @@ std::uint64_t trimResponseCache(const std::string& folder, std::uint64_t capByte
   return total;
 }
 
+RemoteFetchCounts remoteFetchCounts() {
+  std::lock_guard lock(gCountsMutex);
+  return gCounts;
+}
+
 std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std::string& what, RemoteCache cache) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
@@ -217,6 +238,7 @@ std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std
     const std::string file = responseCacheFile(settings.folder, url);
     if (std::optional<std::string> hit = cachedResponse(file, url, maxBytes)) {
       log::debug(url + ": from the response cache " + file);
+      countResponse(true, hit->size());
       return std::move(*hit);
     }
     std::string body = readHttp(url, maxBytes, what);
