@@ -38,6 +38,9 @@ struct SlotLayout {
   int depthSize = 0;
   int slots = 0;
   Binding binding = Binding::Array;
+  // Depth-map layers the array binding allocates at first (at most `slots`): the array grows, its
+  // maps copied, as higher slots are first drawn (the slot cache fills the lowest free slot first).
+  int initialDepthLayers = 0;
 };
 
 // The point pass's programs: the mat3 sprite form (2016) links with as many images as the

@@ -101,6 +101,12 @@ void FrameBuilder::allocateSlots() {
   for (const std::string& b : bounds) slotBound_ += (slotBound_.empty() ? "" : ", ") + b;
   layout_.slots = slots;
   layout_.binding = settings_.binding;
+  // The depth maps are allocated as their slots are first drawn, kInitialDepthLayers at first,
+  // when the budget also holds a growth's two arrays (the old one is copied into one at most twice
+  // its size, no larger than `slots`); else all at once.
+  const std::size_t depthBytes = std::size_t(layout_.depthSize) * layout_.depthSize * 4;
+  const bool lazyDepth = !naive() && (perSlot + depthBytes) * std::size_t(slots) <= settings_.memoryBudgetBytes;
+  layout_.initialDepthLayers = lazyDepth ? std::min(slots, kInitialDepthLayers) : slots;
   cache_ = ibr::SlotCache(slots);
   slotPreview_.assign(size_t(slots), false);
   stats_.sliceBytes = perSlot * size_t(slots);

@@ -185,6 +185,9 @@ class FrameBuilder {
   // The streamed buildings (Scene::buildingTiles), likewise, and the validity texels of the
   // resident buildings (uploaded whole when a tile brings new ones).
   static constexpr int kValidityWidth = 1024;
+  // Depth-map layers allocated at start when they grow lazily (allocateSlots): a first progressive
+  // frame's maps and then some.
+  static constexpr int kInitialDepthLayers = 8;
   std::unique_ptr<BuildingStream> buildings_;
   std::vector<std::vector<std::uint32_t>> slotBuildingCut_, slotBuildingCutDrawn_;
   int buildingsMissing_ = 0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <mutex>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -44,22 +45,34 @@ std::shared_ptr<const BuildingTileSet> footprintTileSet(const std::string& path,
     return o;
   }();
   if (info.spatialFilter) {
-    // One tile at a time through the spatial filter, on whichever thread asks.
-    set->read = [path, fields, georef, tileOptions, dtm, count = set->boxes.size()](std::uint32_t tile) {
+    // One tile at a time through the spatial filter, on whichever thread asks: each reading thread
+    // takes an open reader from the pool (a dataset and its layers' transforms, opened once: not
+    // again for every tile) and gives it back; a GDAL dataset is never used by two threads at once,
+    // and the pool holds at most one reader per thread that reads at the same time.
+    struct ReaderPool {
+      std::mutex mutex;
+      std::vector<std::unique_ptr<FootprintTileReader>> idle;
+    };
+    auto pool = std::make_shared<ReaderPool>();
+    set->read = [path, fields, georef, tileOptions, dtm, pool, count = set->boxes.size()](std::uint32_t tile) {
       if (tile >= count)
         throw std::out_of_range(path + ": building tile " + std::to_string(tile) + " of " + std::to_string(count));
+      std::unique_ptr<FootprintTileReader> reader;
+      {
+        const std::lock_guard<std::mutex> lock(pool->mutex);
+        if (!pool->idle.empty()) {
+          reader = std::move(pool->idle.back());
+          pool->idle.pop_back();
+        }
+      }
+      if (!reader) reader = std::make_unique<FootprintTileReader>(path, fields, georef, tileOptions);
       Diagnostics diag;
-      FootprintTileOptions o = tileOptions;
-      std::size_t asked = 0;
-      o.wanted = [&asked, tile](glm::dvec2, glm::dvec2) { return asked++ == tile; };
-      std::vector<Footprint> footprints;
-      readFootprintTiles(
-          path, fields, georef, o,
-          [&](FootprintTile& t) {
-            if (t.index != tile) return;
-            for (Footprint& f : t.footprints) footprints.push_back(std::move(f));
-          },
-          diag);
+      std::vector<Footprint> footprints = reader->read(tile, diag);
+      {
+        // A reader whose reading threw is dropped with it (closed), not given back.
+        const std::lock_guard<std::mutex> lock(pool->mutex);
+        pool->idle.push_back(std::move(reader));
+      }
       if (!diag.errors.empty()) throw std::runtime_error(diag.errors.front());
       BuildingTileData data = extrudeFootprintTile(footprints, dtm.get(), fields, path, diag);
       data.warnings = std::move(diag.warnings);

@@ -338,5 +338,58 @@ TEST_F(FootprintTiles, TileSetReadOnDemandIsTheWholeLoadEachBuildingOnce) {
   }
 }
 
+// A reader kept open (what each streaming thread holds): tile after tile, in any order and again,
+// the same footprints as readFootprintTiles reading only that tile, with the layer's CRS
+// transform made once; a source that cannot be opened is named.
+TEST_F(FootprintTiles, ReaderKeptOpenReadsEachTileAsAReadOfThatTileAlone) {
+  const std::vector<Building> buildings = blockOfBuildings();
+  const std::string path = write("GPKG", "kept.gpkg", buildings);
+  FootprintTileOptions options;
+  options.tileSize = 50.0;
+  SourceGeoref georef;
+  georef.sceneCrs = "EPSG:32631";  // UTM 31N: the footprints are transformed from EPSG:2154
+  FootprintTileReader reader(path, FootprintFields{}, georef, options);
+  ASSERT_EQ(reader.tiles(), 16u);
+  std::size_t footprints = 0;
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t k = 0; k < 16; ++k) {
+      const std::size_t tile = pass == 0 ? k : 15 - k;  // backwards the second time
+      FootprintTileOptions one = options;
+      std::size_t asked = 0;
+      one.wanted = [&asked, tile](glm::dvec2, glm::dvec2) { return asked++ == tile; };
+      std::vector<Footprint> expected;
+      Diagnostics expectedDiag, diag;
+      readFootprintTiles(
+          path, FootprintFields{}, georef, one,
+          [&](FootprintTile& t) {
+            for (Footprint& f : t.footprints) expected.push_back(std::move(f));
+          },
+          expectedDiag);
+      const std::vector<Footprint> got = reader.read(tile, diag);
+      ASSERT_EQ(got.size(), expected.size()) << "tile " << tile;
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        EXPECT_EQ(got[i].id, expected[i].id);
+        EXPECT_EQ(got[i].rings, expected[i].rings) << got[i].id;  // bit for bit
+        EXPECT_EQ(got[i].height, expected[i].height);
+      }
+      EXPECT_EQ(diag.warnings, expectedDiag.warnings);
+      EXPECT_EQ(diag.errors, expectedDiag.errors);
+      if (pass == 0) footprints += got.size();
+    }
+  EXPECT_EQ(footprints, buildings.size());
+  // Transformed: UTM 31N eastings of Lambert-93's 700 km are about 450 km, not 700 km.
+  Diagnostics diag;
+  const std::vector<Footprint> first = reader.read(0, diag);
+  ASSERT_FALSE(first.empty());
+  EXPECT_LT(first[0].rings[0][0].x, 690000.0);
+  EXPECT_THROW(reader.read(16, diag), std::out_of_range);
+  try {
+    FootprintTileReader missing((dir_ / "missing.gpkg").string(), FootprintFields{}, georef, options);
+    ADD_FAILURE() << "a missing source opened";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.gpkg"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace hv

@@ -95,6 +95,28 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
                                        const SourceGeoref& georef, const FootprintTileOptions& options,
                                        const std::function<void(FootprintTile&)>& consume, Diagnostics& diag);
 
+// The tiles of readFootprintTiles read one at a time from a source kept open: the dataset and each
+// layer's frame (its CRS transform) and grid are made once, each read is one tile through the
+// spatial filter, with the footprints, warnings and errors readFootprintTiles gives for it. Every
+// layer must have a fast spatial filter (FootprintTileSource::spatialFilter). Not thread-safe
+// (a GDAL dataset is used by one thread at a time): one reader per thread.
+class FootprintTileReader {
+ public:
+  // Throws like readFootprintTiles.
+  FootprintTileReader(const std::string& path, const FootprintFields& fields, const SourceGeoref& georef,
+                      const FootprintTileOptions& options);
+  ~FootprintTileReader();
+  FootprintTileReader(const FootprintTileReader&) = delete;
+  FootprintTileReader& operator=(const FootprintTileReader&) = delete;
+  std::size_t tiles() const;
+  // Tile `tile` (FootprintTile::index), in the scene frame; std::out_of_range beyond tiles().
+  std::vector<Footprint> read(std::size_t tile, Diagnostics& diag);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // One tile's footprints extruded as the whole load extrudes them (buildLod1 on `dtm`, null: none),
 // with the validity dates of their attributes (`fields.validFrom`, `validTo`: ISO 8601; one that
 // does not parse is warned about, naming `path` and the footprint, and ignored). Triangle tags
@@ -106,8 +128,9 @@ BuildingTileData extrudeFootprintTile(const std::vector<Footprint>& footprints, 
 // of readFootprintTiles (about options.perTile footprints a tile; `options.wanted` is not used),
 // each tile's box (its cell widened by a cell on each side: buildings crossing its borders) with
 // heights `zlo`..`zhi`, and a reader extruding one tile on `dtm` (shared, may be null) as
-// extrudeFootprintTile does. Through the spatial filter, each read opens the source and reads that
-// one tile (safe from several threads); a source without one is read once now and its footprints
+// extrudeFootprintTile does. Through the spatial filter, each read reads that one tile with a
+// FootprintTileReader of its thread's own (safe from several threads: the readers, each opened
+// once, are pooled and each used by one thread at a time); a source without one is read once now and its footprints
 // kept by tile in memory (`info.note` says so). `info` gets the grid's figures; warnings of the
 // first reading go to `diag`, a tile's to its BuildingTileData. Throws like readFootprintTiles; the
 // reader throws for a tile out of range or one whose reading failed.

@@ -61,6 +61,7 @@ Image16 GlBackend::depthMapView(const Frame& f, ViewPassStats& stats) {
     const double aspect = (fr.pxMax.x - fr.pxMin.x) / (fr.pxMax.y - fr.pxMin.y);
     const glm::dvec2 rect = aspect * h > w ? glm::dvec2(w, w / aspect) : glm::dvec2(h * aspect, h);
     const glm::dvec2 rectMin = (glm::dvec2(w, h) - rect) / 2.0;
+    ensureDepthLayer(slot);  // a slot never drawn reads a cleared layer, as with every layer at start
     const DebugDepthProgram& p = debugDepthProgram_;
     p.program.use();
     gpu::bindUnit(kUnitDepthMaps, GL_TEXTURE_2D_ARRAY, depthArray_.id());

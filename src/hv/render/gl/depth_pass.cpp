@@ -46,6 +46,7 @@ void GlBackend::drawRanges(const std::vector<DrawRange>& draws) {
 
 void GlBackend::drawDepthMap(const DepthMapJob& job) {
   const int slot = job.slot;
+  ensureDepthLayer(slot);
   glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_.id());
   if (naive())
     gpu::attachDepth(naiveDepths_[size_t(slot)].id());

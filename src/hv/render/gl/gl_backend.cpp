@@ -185,12 +185,58 @@ void GlBackend::allocateSlots(const SlotLayout& layout) {
     }
     checkGlError("naive slices");
     shadeProgram_ = ShadeProgram(programs().shade, n);
+    depthLayers_ = n;
   } else {
     imageArray_ = gpu::makeRgba8Array(w, h, n, ibr::mipLevelCount(w, h));
-    depthArray_ = gpu::makeDepthArray(layout.depthSize, n);
+    depthLayers_ = 0;
+    depthArray_ = {};
+    const int initial = layout.initialDepthLayers > 0 ? std::min(layout.initialDepthLayers, n) : n;
+    ensureDepthLayer(initial - 1);
     checkGlError("slice arrays");
   }
   checkGlError("renderer initialisation");
+}
+
+void GlBackend::ensureDepthLayer(int slot) {
+  if (naive() || slot < depthLayers_) return;
+  const int size = layout_.depthSize;
+  const int grown = std::min(layout_.slots, std::max(slot + 1, 2 * depthLayers_));
+  // Made on the depth maps' own unit, where the new array belongs: no other unit's binding changes.
+  GLint active = GL_TEXTURE0;
+  glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+  glActiveTexture(GL_TEXTURE0 + kUnitDepthMaps);
+  gpu::Texture next = gpu::makeDepthArray(size, grown);
+  glActiveTexture(GLenum(active));
+  if (depthLayers_ > 0) {
+    // The maps drawn so far, copied exactly (a depth blit, nearest, same format); blits bypass
+    // the fragment operations but the scissor test.
+    if (!depthCopyRead_.id()) {
+      depthCopyRead_ = gpu::makeFramebuffer();
+      depthCopyDraw_ = gpu::makeFramebuffer();
+    }
+    GLint readFbo = 0, drawFbo = 0;
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFbo);
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFbo);
+    const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, depthCopyRead_.id());
+    glReadBuffer(GL_NONE);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depthCopyDraw_.id());
+    gpu::drawToNoColour();
+    for (int l = 0; l < depthLayers_; ++l) {
+      glFramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthArray_.id(), 0, l);
+      glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, next.id(), 0, l);
+      glBlitFramebuffer(0, 0, size, size, 0, 0, size, size, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    }
+    glFramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, 0, 0, 0);
+    glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, 0, 0, 0);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readFbo));
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawFbo));
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+  }
+  depthArray_ = std::move(next);
+  depthLayers_ = grown;
+  checkGlError("depth-map array growth");
 }
 
 void GlBackend::uploadImage(int slot, const Image8& slice) {
@@ -219,6 +265,7 @@ void GlBackend::uploadDepthMap(int slot, const std::vector<float>& depth) {
     glBindTexture(GL_TEXTURE_2D, naiveDepths_[size_t(slot)].id());
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
   } else {
+    ensureDepthLayer(slot);
     glBindTexture(GL_TEXTURE_2D_ARRAY, depthArray_.id());
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, slot, n, n, 1, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
   }

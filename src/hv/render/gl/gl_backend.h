@@ -81,9 +81,13 @@ class GlBackend final : public Backend {
   // none before the first frame or outside the target. Reads one pixel back (pick_pass.cpp): a
   // click's cost, not a frame's. GL backend only: the picker of builds without a ray caster.
   std::optional<double> readViewDepth(glm::ivec2 texel);
+  // Depth-map layers allocated so far (the array binding; the naive binding's, all at once).
+  int depthLayers() const { return depthLayers_; }
 
  private:
   bool naive() const { return layout_.binding == Binding::Naive; }
+  // Grows the depth-map array to hold `slot` (gl_backend.cpp).
+  void ensureDepthLayer(int slot);
   // depth_pass.cpp
   void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far, const DateInterval& date,
                  const std::vector<DrawRange>& draws, const std::vector<std::uint64_t>& streamedTiles, double pushBack,
@@ -138,6 +142,10 @@ class GlBackend final : public Backend {
   // texture per slot for the photograph and one for its depth map, on the units the shading pass
   // leaves free.
   gpu::Texture imageArray_, depthArray_;
+  // The depth-map array's layers: allocated lazily, since llvmpipe zero-fills an allocation (64
+  // maps of 1024^2 are 256 MiB to clear); grown by doubling, the drawn maps blitted across.
+  int depthLayers_ = 0;
+  gpu::Framebuffer depthCopyRead_, depthCopyDraw_;
   std::vector<gpu::Texture> naiveImages_, naiveDepths_;
   std::vector<GLint> naiveUnits_;
   gpu::Texture paramsTexture_;

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 #include <unordered_set>
 
@@ -354,6 +356,48 @@ std::pair<glm::dvec2, glm::dvec2> sceneBox(const LayerGrid& g, int cell, const s
   return {a, b};
 }
 
+
+// One tile of a layer with a fast spatial filter (a local index or a service): the features whose
+// first vertex lies in `cell`, read into `footprints` (layer CRS). The rectangle is padded so that
+// a first vertex on a tile border is always returned to its owner, and the border tiles reach past
+// the layer's extent (which a GeoPackage may give stale). False when the reading failed part-way
+// (said in `diag`).
+bool readFastCell(OGRLayer* layer, const LayerGrid& grid, const std::string& prefix, int c, bool server,
+                  const FootprintFields& fields, const std::string& path, std::vector<Footprint>& footprints,
+                  std::unordered_set<GIntBig>& seenWithoutVertex, std::size_t& owned, Diagnostics& diag) {
+  const double pad = 1e-6 * grid.size;
+  const int ix = c % grid.nx, iy = c / grid.nx;
+  // A server is asked for a box of sensible coordinates (one extent further, and within the
+  // world for longitudes and latitudes), a local index for everything.
+  const double far = (server ? 1.0 : 1e6) * grid.size * std::max(grid.nx, grid.ny);
+  const glm::dvec2 lo = grid.lo(c), hi = grid.hi(c);
+  double x0 = ix == 0 ? lo.x - far : lo.x - pad, y0 = iy == 0 ? lo.y - far : lo.y - pad;
+  double x1 = ix == grid.nx - 1 ? hi.x + far : hi.x + pad, y1 = iy == grid.ny - 1 ? hi.y + far : hi.y + pad;
+  const OGRSpatialReference* srs = layer->GetSpatialRef();
+  if (server && srs && srs->IsGeographic()) {
+    // OGR hands WFS and OAPIF layers over in longitude, latitude order.
+    x0 = std::max(x0, -180.0), x1 = std::min(x1, 180.0), y0 = std::max(y0, -90.0), y1 = std::min(y1, 90.0);
+  }
+  if (grid.extentKnown || !server) layer->SetSpatialFilterRect(x0, y0, x1, y1);
+  CPLErrorReset();
+  layer->ResetReading();
+  for (auto& feature : *layer) {
+    const std::optional<glm::dvec2> v = firstVertex(feature->GetGeometryRef());
+    if (v ? grid.cellOf(*v) != c : !seenWithoutVertex.insert(feature->GetFID()).second) continue;
+    ++owned;
+    readFeature(*feature, prefix + std::to_string(feature->GetFID()), fields, path, footprints, diag);
+  }
+  // A service that fails mid-way (a WFS page answered 500, a truncated response) ends the
+  // iteration as if the layer had no more features: said, not silent.
+  if (CPLGetLastErrorType() >= CE_Failure) {
+    diag.error(inputMessage(path, prefix + "tile " + std::to_string(ix) + "," + std::to_string(iy),
+                            "read failed after " + std::to_string(footprints.size()) + " footprint(s): " +
+                                gdal::lastError("I/O error") + " (the rest of the tile left out)"));
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<Footprint> readFootprints(const std::string& path, const FootprintFields& fields, Diagnostics& diag) {
@@ -445,44 +489,15 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
     // (STARTINDEX/COUNT, the "next" links), which is what reading by tile is for (docs/services.md).
     const bool fast = server || layer->TestCapability(OLCFastSpatialFilter) != 0;
     if (fast) {
-      // Each wanted tile through the layer's spatial index. The rectangle is padded so that a
-      // first vertex on a tile border is always returned to its owner, and the border tiles
-      // reach past the layer's extent (which a GeoPackage may give stale).
+      // Each wanted tile through the layer's spatial index (readFastCell).
       std::unordered_set<GIntBig> seenWithoutVertex;
       std::size_t owned = 0;
-      const double pad = 1e-6 * grid.size;
       for (int c = 0; c < cells; ++c) {
         if (!wanted[std::size_t(c)]) continue;
-        const int ix = c % grid.nx, iy = c / grid.nx;
-        // A server is asked for a box of sensible coordinates (one extent further, and within the
-        // world for longitudes and latitudes), a local index for everything.
-        const double far = (server ? 1.0 : 1e6) * grid.size * std::max(grid.nx, grid.ny);
-        const glm::dvec2 lo = grid.lo(c), hi = grid.hi(c);
-        double x0 = ix == 0 ? lo.x - far : lo.x - pad, y0 = iy == 0 ? lo.y - far : lo.y - pad;
-        double x1 = ix == grid.nx - 1 ? hi.x + far : hi.x + pad, y1 = iy == grid.ny - 1 ? hi.y + far : hi.y + pad;
-        const OGRSpatialReference* srs = layer->GetSpatialRef();
-        if (server && srs && srs->IsGeographic()) {
-          // OGR hands WFS and OAPIF layers over in longitude, latitude order.
-          x0 = std::max(x0, -180.0), x1 = std::min(x1, 180.0), y0 = std::max(y0, -90.0), y1 = std::min(y1, 90.0);
-        }
-        if (grid.extentKnown || !server) layer->SetSpatialFilterRect(x0, y0, x1, y1);
-        CPLErrorReset();
-        layer->ResetReading();
         std::vector<Footprint> footprints;
-        for (auto& feature : *layer) {
-          const std::optional<glm::dvec2> v = firstVertex(feature->GetGeometryRef());
-          if (v ? grid.cellOf(*v) != c : !seenWithoutVertex.insert(feature->GetFID()).second) continue;
-          ++owned;
-          readFeature(*feature, frame.prefix + std::to_string(feature->GetFID()), fields, path, footprints, diag);
-        }
-        // A service that fails mid-way (a WFS page answered 500, a truncated response) ends the
-        // iteration as if the layer had no more features: said, not silent.
-        if (CPLGetLastErrorType() >= CE_Failure) {
+        if (!readFastCell(layer, grid, frame.prefix, c, server, fields, path, footprints, seenWithoutVertex, owned,
+                          diag))
           ++source.tilesFailed;
-          diag.error(inputMessage(path, frame.prefix + "tile " + std::to_string(ix) + "," + std::to_string(iy),
-                                  "read failed after " + std::to_string(footprints.size()) + " footprint(s): " +
-                                      gdal::lastError("I/O error") + " (the rest of the tile left out)"));
-        }
         deliver(c, footprints);
       }
       layer->SetSpatialFilter(nullptr);
@@ -525,6 +540,82 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
     layerBase += std::size_t(cells);
   }
   return source;
+}
+
+struct FootprintTileReader::Impl {
+  std::string path;
+  FootprintFields fields;
+  DatasetPtr ds;
+  bool server = false;
+  struct Layer {
+    OGRLayer* layer = nullptr;
+    LayerFrame frame;
+    LayerGrid grid;
+    std::size_t base = 0;  // the index of its first tile
+  };
+  std::vector<Layer> layers;
+  std::size_t tiles = 0;
+  std::vector<std::string> openWarnings;  // the layers' frames' (each read repeats them)
+};
+
+FootprintTileReader::FootprintTileReader(const std::string& path, const FootprintFields& fields,
+                                         const SourceGeoref& georef, const FootprintTileOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.path = path;
+  m.fields = fields;
+  gdal::ensureRegistered();
+  const gdal::QuietErrors quiet;
+  gdal::requireOpenable(path, "footprints", true);
+  m.ds.reset(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  if (!m.ds)
+    throw InputError(inputMessage(path, "", "cannot open as a vector source: " + gdal::lastError("unknown format")));
+  const std::string driver = m.ds->GetDriverName() ? m.ds->GetDriverName() : "";
+  m.server = driver == "WFS" || driver == "OAPIF";
+  const int layerCount = m.ds->GetLayerCount();
+  if (layerCount == 0) throw InputError(inputMessage(path, "", "no layer in this " + driver + " source"));
+  Diagnostics diag;
+  std::string sourceCrs;
+  for (int l = 0; l < layerCount; ++l) {
+    Impl::Layer layer;
+    layer.layer = m.ds->GetLayer(l);
+    CPLErrorReset();
+    layer.frame = layerFrame(layer.layer, layerCount, georef, path, sourceCrs, diag);
+    layer.grid = layerGrid(layer.layer, options);
+    if (m.server && CPLGetLastErrorType() >= CE_Failure)
+      throw InputError(inputMessage(path, layer.frame.prefix, "the service failed: " + gdal::lastError("I/O error")));
+    if (!m.server && layer.layer->TestCapability(OLCFastSpatialFilter) == 0)
+      throw InputError(inputMessage(path, layer.frame.prefix, "no fast spatial filter: cannot be read by tile"));
+    layer.base = m.tiles;
+    m.tiles += std::size_t(layer.grid.nx * layer.grid.ny);
+    m.layers.push_back(std::move(layer));
+  }
+  if (!diag.errors.empty()) throw InputError(diag.errors.front());
+  m.openWarnings = std::move(diag.warnings);
+}
+
+FootprintTileReader::~FootprintTileReader() = default;
+
+std::size_t FootprintTileReader::tiles() const { return impl_->tiles; }
+
+std::vector<Footprint> FootprintTileReader::read(std::size_t tile, Diagnostics& diag) {
+  Impl& m = *impl_;
+  if (tile >= m.tiles)
+    throw std::out_of_range(m.path + ": building tile " + std::to_string(tile) + " of " + std::to_string(m.tiles));
+  const gdal::QuietErrors quiet;
+  for (const std::string& w : m.openWarnings) diag.warn(w);
+  std::size_t l = 0;
+  while (l + 1 < m.layers.size() && m.layers[l + 1].base <= tile) ++l;
+  const Impl::Layer& layer = m.layers[l];
+  std::vector<Footprint> footprints;
+  std::unordered_set<GIntBig> seenWithoutVertex;
+  std::size_t owned = 0;
+  readFastCell(layer.layer, layer.grid, layer.frame.prefix, int(tile - layer.base), m.server, m.fields, m.path,
+               footprints, seenWithoutVertex, owned, diag);
+  layer.layer->SetSpatialFilter(nullptr);
+  if (layer.frame.transform && georeferenceLayer(footprints, 0, *layer.frame.transform, m.path, diag))
+    warnLevelsAsTheyAre(*layer.frame.transform, m.path, diag);
+  return footprints;
 }
 
 }  // namespace hv
