@@ -11,6 +11,7 @@
 #include "hv/render/frame.h"
 #include "hv/render/settings.h"
 #include "hv/scene/orthophoto.h"
+#include "hv/scene/point_normals.h"
 #include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/session/outputs.h"
@@ -49,7 +50,9 @@ void printPoints(const PointCloud& points, const Scene::PointTilesInfo& pointTil
     std::cout << "\n";
     return;
   }
-  std::cout << " (" << points.fields().describe() << "; " << points.chunks.size() << " chunks)\n";
+  PointFields fields = points.fields();
+  fields.normals = hasNormals(points);  // estimated ones too, though deferred (not made here)
+  std::cout << " (" << fields.describe() << "; " << points.chunks.size() << " chunks)\n";
   if (const Scene::PointTilesInfo& t = pointTiles; t.tilesInTileset > 0)
     std::cout << "  3d tiles " << t.tilesRead << " tiles read of " << t.tilesInTileset << " in the tileset, "
               << t.tilesKept << " kept, " << t.tilesFailed << " failed, " << t.bytes << " bytes fetched"

@@ -1,5 +1,6 @@
 #include "hv/app/web_export_command.h"
 
+#include "hv/scene/point_normals.h"
 #include "hv/session/session.h"
 #include "hv/session/checks.h"
 #include "hv/session/outputs.h"
@@ -128,7 +129,9 @@ int runWebExport(const WebExportOptions& o) {
   if (sourcePoints > 0) {
     std::cout << scene.points.size();
     if (scene.points.size() < sourcePoints) std::cout << " of " << sourcePoints;
-    std::cout << " points (" << scene.points.fields().describe() << "), ";
+    PointFields fields = scene.points.fields();
+    fields.normals = hasNormals(scene.points);
+    std::cout << " points (" << fields.describe() << "), ";
   }
   std::cout << photos.size() << " photographs" << (anyMask ? " with masks" : "") << "\n";
   if (page == 0) std::cout << "note: no page copied (no index.html in " << pageDir.string() << ")\n";

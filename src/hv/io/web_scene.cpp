@@ -3,6 +3,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/geojson_footprints.h"
 #include "hv/scene/chunks.h"
+#include "hv/scene/point_normals.h"
 #include "hv/traffic/trajectories.h"
 #include "hv/traffic/vehicle_model.h"
 #include "hv/util/input_file.h"
@@ -237,7 +238,8 @@ void readServiceBuildings(const json& b, const fs::path& dir, Scene& scene, Diag
 }  // namespace
 
 std::string webPointBytes(const PointCloud& cloud, const glm::dvec3& origin) {
-  const PointFields f = cloud.fields();
+  PointFields f = cloud.fields();
+  f.normals = hasNormals(cloud);  // deferred ones estimated now (hv/scene/point_normals.h)
   const std::uint32_t bits = pointFieldBits(f);
   const std::size_t n = cloud.size();
   std::string out;
@@ -256,7 +258,7 @@ std::string webPointBytes(const PointCloud& cloud, const glm::dvec3& origin) {
   if (f.normals) {
     std::vector<std::int16_t> normals;
     normals.reserve(3 * n);
-    for (const glm::vec3& v : cloud.normals) normals.insert(normals.end(), {snorm16(v.x), snorm16(v.y), snorm16(v.z)});
+    for (const glm::vec3& v : pointNormals(cloud)) normals.insert(normals.end(), {snorm16(v.x), snorm16(v.y), snorm16(v.z)});
     appendRaw(out, normals);
   }
   if (f.intensity) appendRaw(out, cloud.intensity);

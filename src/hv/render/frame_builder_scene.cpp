@@ -7,6 +7,7 @@
 #include "hv/camera/frustum_outline.h"
 #include "hv/scene/building_tiles.h"
 #include "hv/scene/chunks.h"
+#include "hv/scene/point_normals.h"
 #include "hv/scene/robust_extent.h"
 #include "hv/scene/point_colors.h"
 #include "hv/util/log.h"
@@ -157,14 +158,15 @@ void FrameBuilder::initPoints() {
     return;
   }
   if (cloud.chunks.empty()) throw std::runtime_error("point cloud not organised into chunks (hv::organizeChunks)");
-  const PointFields fields = cloud.fields();
+  // Deferred normals (hv/scene/point_normals.h) are estimated here, when the points are first drawn.
+  const std::vector<glm::vec3>& normals = pointNormals(cloud);
   resolvePointFilter();
 
   const std::vector<glm::u8vec4> colors = pointDisplayColors(cloud, ps.color);
   std::vector<PointVertex> vertices(cloud.size());
   for (size_t i = 0; i < cloud.size(); ++i) {
     const glm::dvec3 r = cloud.positions[i] - scene_.origin;  // render frame (docs/conventions.md)
-    const glm::vec3 n = fields.normals ? cloud.normals[i] : glm::vec3(0.0f);
+    const glm::vec3 n = normals.empty() ? glm::vec3(0.0f) : normals[i];
     vertices[i] = {{float(r.x), float(r.y), float(r.z)}, {n.x, n.y, n.z},
                    {colors[i].r, colors[i].g, colors[i].b, colors[i].a}};
   }

@@ -1,6 +1,7 @@
 #include "hv/scene/chunks.h"
 
 #include "hv/camera/frustum.h"
+#include "hv/scene/point_normals.h"
 
 #include <algorithm>
 #include <cassert>
@@ -88,7 +89,10 @@ PointCloud subsampleChunks(const PointCloud& cloud, std::size_t maxPoints) {
     organizeChunks(organised);
     return subsampleChunks(organised, maxPoints);
   }
-  const PointFields fields = cloud.fields();
+  PointFields fields = cloud.fields();
+  // Deferred normals are estimated over the whole cloud, then subsampled with it.
+  const std::vector<glm::vec3>& normals = pointNormals(cloud);
+  fields.normals = !normals.empty();
   PointCloud out;
   out.sourcePath = cloud.sourcePath;
   out.crs = cloud.crs;
@@ -98,7 +102,7 @@ PointCloud subsampleChunks(const PointCloud& cloud, std::size_t maxPoints) {
     if (fields.intensity) out.intensity.push_back(cloud.intensity[i]);
     if (fields.classification) out.classification.push_back(cloud.classification[i]);
     if (fields.rgb) out.rgb.push_back(cloud.rgb[i]);
-    if (fields.normals) out.normals.push_back(cloud.normals[i]);
+    if (fields.normals) out.normals.push_back(normals[i]);
   };
   // Chunk c keeps floor(N S_c / total) - floor(N S_{c-1} / total) points, S_c the count of the
   // chunks up to c: within one point of its share, and N in all. N < total < 2^32, so the

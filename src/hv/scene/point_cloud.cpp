@@ -1,5 +1,7 @@
 #include "hv/scene/point_cloud.h"
 
+#include "hv/scene/point_normals.h"
+
 #include <cassert>
 
 namespace hv {
@@ -38,6 +40,7 @@ void PointCloud::resize(std::size_t n, const PointFields& f) {
   classification.resize(f.classification ? n : 0);
   rgb.resize(f.rgb ? n : 0);
   normals.resize(f.normals ? n : 0);
+  pendingNormals.reset();  // other points: nothing is pending for them
 }
 
 namespace {
@@ -54,6 +57,7 @@ void permuteVector(std::vector<T>& v, const std::vector<std::uint32_t>& order) {
 
 void PointCloud::permute(const std::vector<std::uint32_t>& order) {
   assert(order.size() == size() && "PointCloud::permute: order must be a permutation of the points");
+  resolveNormals(*this);  // estimated over the positions they were deferred with
   permuteVector(positions, order);
   permuteVector(intensity, order);
   permuteVector(classification, order);

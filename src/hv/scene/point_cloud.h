@@ -7,7 +7,8 @@
 // - `rgb` is 16-bit per channel as in LAS; 8-bit sources are scaled by 257 (255 -> 65535).
 // - `classification` is the ASPRS class: the 5-bit class of LAS point formats 0-5, the 8-bit
 //   extended class of formats 6-10 (LAS 1.4 R15, tables 9 and 17).
-// - `normals` are unit vectors (float), as given by the source.
+// - `normals` are unit vectors (float), as given by the source; or, when `pendingNormals` is set,
+//   empty until estimated on first use (hv/scene/point_normals.h, pointNormals).
 #pragma once
 
 #include "hv/scene/mesh.h"
@@ -18,10 +19,13 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace hv {
+
+struct PendingNormals;  // hv/scene/point_normals.h
 
 // A contiguous range of points of a PointCloud (after organizeChunks, hv/scene/chunks.h), with
 // the bounds of those points. Points inside a chunk are in random order, so any prefix
@@ -50,6 +54,10 @@ struct PointCloud {
   std::vector<std::uint8_t> classification;
   std::vector<glm::u16vec3> rgb;
   std::vector<glm::vec3> normals;
+  // Normals still to be estimated, on first use (hv/scene/point_normals.h: pointNormals,
+  // resolveNormals): the loader defers the estimate for a source without normals. Null: none
+  // pending. Shared by copies of the cloud; the positions must not change while it is set.
+  std::shared_ptr<PendingNormals> pendingNormals;
 
   // Empty until organizeChunks() reorders the points into chunks covering all of them.
   std::vector<PointChunk> chunks;
@@ -64,7 +72,7 @@ struct PointCloud {
   // Allocates every attribute named in `fields` for n points (positions always).
   void resize(std::size_t n, const PointFields& fields);
   // Reorders every attribute: point i of the result is point order[i] of this cloud. `order`
-  // must be a permutation of [0, size()); chunks are cleared.
+  // must be a permutation of [0, size()); chunks are cleared. Pending normals are estimated first.
   void permute(const std::vector<std::uint32_t>& order);
   // True when every non-empty attribute has size() entries.
   bool consistent() const;

@@ -48,12 +48,43 @@ std::optional<glm::vec3> normalOf(const Positions& p, const size_t* idx, size_t 
   return glm::vec3(glm::normalize(nrm));
 }
 
+std::vector<glm::vec3> estimatedNormals(const PointCloud& cloud, const NormalEstimation& settings);
+
 }  // namespace
 
 void estimateNormals(PointCloud& cloud, const NormalEstimation& settings) {
+  cloud.pendingNormals.reset();
+  cloud.normals = estimatedNormals(cloud, settings);
+}
+
+void deferNormals(PointCloud& cloud, const NormalEstimation& settings) {
+  cloud.normals.clear();
+  cloud.pendingNormals = std::make_shared<PendingNormals>();
+  cloud.pendingNormals->settings = settings;
+}
+
+bool hasNormals(const PointCloud& cloud) { return !cloud.normals.empty() || cloud.pendingNormals != nullptr; }
+
+const std::vector<glm::vec3>& pointNormals(const PointCloud& cloud) {
+  if (!cloud.normals.empty() || !cloud.pendingNormals) return cloud.normals;
+  PendingNormals& p = *cloud.pendingNormals;
+  std::call_once(p.once, [&] { p.normals = estimatedNormals(cloud, p.settings); });
+  return p.normals;
+}
+
+void resolveNormals(PointCloud& cloud) {
+  if (!cloud.pendingNormals) return;
+  // Copied, not moved: copies of the cloud may share the pending estimate.
+  if (cloud.normals.empty()) cloud.normals = pointNormals(cloud);
+  cloud.pendingNormals.reset();
+}
+
+namespace {
+
+std::vector<glm::vec3> estimatedNormals(const PointCloud& cloud, const NormalEstimation& settings) {
   const size_t n = cloud.size();
-  cloud.normals.assign(n, glm::vec3(0.0f));
-  if (n == 0) return;
+  std::vector<glm::vec3> result(n, glm::vec3(0.0f));
+  if (n == 0) return result;
   // Each distinct position once: a kd-tree search among many equal points visits every one of
   // them (none is farther than the k-th), so a cloud of a million identical points (a scanner
   // standing still) would take hours. Duplicates add nothing to the plane fit's directions; they
@@ -98,7 +129,10 @@ void estimateNormals(PointCloud& cloud, const NormalEstimation& settings) {
     for (size_t t = 0; t < threads; ++t) pool.emplace_back(work, m * t / threads, m * (t + 1) / threads);
     for (std::thread& t : pool) t.join();
   }
-  for (size_t i = 0; i < n; ++i) cloud.normals[i] = normals[uniqueOf[i]];
+  for (size_t i = 0; i < n; ++i) result[i] = normals[uniqueOf[i]];
+  return result;
 }
+
+}  // namespace
 
 }  // namespace hv

@@ -15,6 +15,8 @@
 #include "hv/scene/point_cloud.h"
 
 #include <functional>
+#include <mutex>
+#include <vector>
 
 namespace hv {
 
@@ -32,5 +34,24 @@ struct NormalEstimation {
 // distinct positions: duplicates of a point share its normal, and cost nothing more (a million
 // identical points take what one does; docs/reliability.md).
 void estimateNormals(PointCloud& cloud, const NormalEstimation& settings = {});
+
+// Normals estimated when first needed: the point pass is off by default, and the estimate is a
+// large part of a load. deferNormals leaves cloud.normals empty and the estimate pending
+// (PointCloud::pendingNormals); pointNormals makes it on first call (once, whichever thread asks
+// first: the others wait for it) over the positions as they are then: what estimateNormals would
+// give, since the estimate does not depend on the points' order (each distinct position once,
+// sorted). The positions must not change meanwhile (PointCloud::permute resolves first).
+struct PendingNormals {
+  NormalEstimation settings;
+  std::once_flag once;
+  std::vector<glm::vec3> normals;
+};
+void deferNormals(PointCloud& cloud, const NormalEstimation& settings = {});
+// The cloud has normals, or will have them when asked (pointNormals).
+bool hasNormals(const PointCloud& cloud);
+// cloud.normals, else the pending estimate (made now if not yet), else empty. Thread-safe.
+const std::vector<glm::vec3>& pointNormals(const PointCloud& cloud);
+// Puts the pending estimate (made now if not yet) into cloud.normals; nothing is pending after.
+void resolveNormals(PointCloud& cloud);
 
 }  // namespace hv

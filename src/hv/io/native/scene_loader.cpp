@@ -137,17 +137,16 @@ glm::dvec3 vec3Field(const json& doc, const char* key, const std::string& file) 
 }
 
 // points.normals: "auto" (the file's, else estimated), "estimate" (always), "facing" (the file's,
-// else camera-facing sprites). Estimated normals: hv/scene/point_normals.h.
+// else camera-facing sprites). Estimated normals (hv/scene/point_normals.h) are deferred: made when
+// first needed (the point pass, an export), not at load. Called after organizeChunks: the estimate
+// does not depend on the points' order, and the positions do not change after.
 void estimatePointNormals(PointCloud& cloud, const json& entry, const std::string& path) {
   const json mode = entry.contains("normals") ? entry["normals"] : json("auto");
   if (!mode.is_string() || (mode != "auto" && mode != "estimate" && mode != "facing"))
     throw InputError(path + ": points.normals: expected \"auto\", \"estimate\" or \"facing\"");
   if (mode == "estimate" || (mode == "auto" && !cloud.fields().normals)) {
-    const auto t0 = std::chrono::steady_clock::now();
-    estimateNormals(cloud);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    log::debug("points: normals estimated for " + std::to_string(cloud.size()) + " points in " + std::to_string(s) +
-               " s");
+    deferNormals(cloud);
+    log::debug("points: normals of " + std::to_string(cloud.size()) + " points to be estimated when first needed");
   }
 }
 
@@ -333,8 +332,8 @@ void loadPointTilesetIntoScene(Scene& scene, const PointTilesetRequest& request,
     scene.points = loadPointTileset(request, cameras, diag, &scene.pointTilesInfo);
     if (!scene.crs.empty()) georeferencePoints(scene.points, request.georef, request.url, diag);
     recordSource(scene, "points", scene.points.crs);
-    estimatePointNormals(scene.points, entry, path);
     organizeChunks(scene.points);
+    estimatePointNormals(scene.points, entry, path);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log::debug("points: " + request.url + ": " + std::to_string(scene.points.size()) + " points, " +
                std::to_string(scene.points.chunks.size()) + " chunks, " + std::to_string(s) + " s");
@@ -924,8 +923,8 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       if (!georef.crs.empty()) scene.points.crs = georef.crs;  // overrides the file's
       if (!scene.crs.empty()) georeferencePoints(scene.points, georef, p, diag);
       recordSource(scene, "points", scene.crs.empty() ? scene.points.crs : sourceCrsOf(georef, scene.points.crs));
-      estimatePointNormals(scene.points, doc["points"], path);
       organizeChunks(scene.points);
+      estimatePointNormals(scene.points, doc["points"], path);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       log::debug("points: " + p + ": " + std::to_string(scene.points.size()) + " points, " +
                  std::to_string(scene.points.chunks.size()) + " chunks, " + std::to_string(s) + " s");
