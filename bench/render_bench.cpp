@@ -336,6 +336,11 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
   const Option options[] = {
       {"papers' blend (distance, no feather, level 0)", [](hv::ibr::BlendSettings&) {}},
       {"weights geometry", [](hv::ibr::BlendSettings& b) { b.weighting = hv::ibr::Weighting::Geometry; }},
+      // SIBR's unstructured lumigraph renderer blends the best 4 per pixel.
+      {"weights geometry, geometry-k 4", [](hv::ibr::BlendSettings& b) {
+         b.weighting = hv::ibr::Weighting::Geometry;
+         b.geometryK = 4;
+       }},
       {"feather 16 px", [](hv::ibr::BlendSettings& b) { b.featherPx = 16.0; }},
       // Anisotropic filtering is left out: llvmpipe's takes minutes per frame (docs/performance.md).
       {"mipmaps (footprint-area level)", [](hv::ibr::BlendSettings& b) {
@@ -344,6 +349,13 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
        }},
       {"all three", [](hv::ibr::BlendSettings& b) {
          b.weighting = hv::ibr::Weighting::Geometry;
+         b.featherPx = 16.0;
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
+       }},
+      {"all three, geometry-k 4", [](hv::ibr::BlendSettings& b) {
+         b.weighting = hv::ibr::Weighting::Geometry;
+         b.geometryK = 4;
          b.featherPx = 16.0;
          b.mipmaps = true;
          b.anisotropy = 1.0;

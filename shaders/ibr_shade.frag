@@ -57,6 +57,7 @@ uniform highp sampler2D u_pointColor;      // its colour, per view-depth texel (
 uniform int u_weighting;           // hv::ibr::Weighting: 0 distance (the papers'), 1 geometry
 uniform float u_resolutionWeight;  // geometry: lambda
 uniform float u_penaltyEpsilon;    // geometry: f(p) = 1/(epsilon^2 + p^2)
+uniform int u_geometryK;           // geometry: images blended per pixel (hv::ibr::geometryBlendCount)
 uniform float u_viewFocal;         // the view's focal length, pixels
 uniform float u_feather;           // photograph pixels; 0: no feathering
 uniform bool u_maskFeather;        // feather toward mask edges too (from a mip level of the mask)
@@ -82,6 +83,8 @@ out vec4 o_color;
 
 // hv::ibr::kMaxGeometryK + 1: a pixel's best K and the K+1-th.
 #define HV_MAX_BEST 17
+// hv::ibr::kMaxGeometryRank: the candidates of a pixel ranked by penalty before any is tested.
+#define HV_MAX_RANK 32
 // hv::ibr::kMaxConsensusSamples: the samples the transient filter looks at.
 #define HV_MAX_CONSENSUS 16
 
@@ -137,17 +140,17 @@ bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out 
   return hv_appliesAt(im, P, existed, dt, uv, p, pd, z);
 }
 
-// The geometry penalty of image `im` at P with surface normal n, twin of hv::ibr::geometryPenalty:
-// the angle between the photograph's and the view's rays plus lambda * max(0, ln rho), rho the
-// photograph's texel footprint on the surface over the view's pixel footprint (cosines clamped at
-// hv::ibr::kMinCosine).
-float hv_penalty(HvImage im, vec3 P, vec3 n) {
-  vec3 toI = P - im.C, toV = P - u_viewCenter;
+// The geometry penalty at P with surface normal n of the photograph whose centre is C and focal
+// length `focal` (pixels), twin of hv::ibr::geometryPenalty: the angle between the photograph's
+// and the view's rays plus lambda * max(0, ln rho), rho the photograph's texel footprint on the
+// surface over the view's pixel footprint (cosines clamped at hv::ibr::kMinCosine).
+float hv_penalty(vec3 C, float focal, vec3 P, vec3 n) {
+  vec3 toI = P - C, toV = P - u_viewCenter;
   float di = length(toI), dv = length(toV);
   vec3 a = toI / di, b = toV / dv;
   float theta = atan(length(cross(a, b)), dot(a, b));
   float ci = max(abs(dot(n, a)), 0.05), cv = max(abs(dot(n, b)), 0.05);
-  float rho = (di * u_viewFocal * cv) / (dv * im.focal * ci);
+  float rho = (di * u_viewFocal * cv) / (dv * focal * ci);
   return theta + u_resolutionWeight * max(0.0, log(rho));
 }
 
@@ -361,10 +364,10 @@ void main() {
     dPdx = hv_surfaceStep(P, normal, u_viewDirFromPix * vec3(pIdeal + vec2(1.0, 0.0), 1.0));
     dPdy = hv_surfaceStep(P, normal, u_viewDirFromPix * vec3(pIdeal + vec2(0.0, 1.0), 1.0));
   }
-  // Geometry weights: the pixel's best K + 1 by penalty, ascending (ties: visiting order), with
+  // Geometry weights: the pixel's best K + 1 by penalty, ascending (ties: list order), with
   // their texels, feather factors and indices.
   bool geometry = u_weighting == 1 && u_method != 1;
-  int cap = min(u_blendK, HV_MAX_BEST - 1) + 1;
+  int cap = clamp(u_geometryK, 1, HV_MAX_BEST - 1) + 1;
   float bestP[HV_MAX_BEST];
   vec4 bestT[HV_MAX_BEST];
   float bestF[HV_MAX_BEST];
@@ -379,20 +382,45 @@ void main() {
   int nSamp = 0;
   int nPassed = 0;
   float fNextRegion = 0.0;
-  // A layered photograph's sub-images are consecutive with one group: the first that passes
-  // stands for the photograph, the rest of its group are skipped.
+  // Geometry weights: the penalty depends only on the photograph's centre and focal length, so the
+  // candidates are ranked by it first (ascending, ties in list order; the best HV_MAX_RANK kept)
+  // and then tested best first: the loop below ends at the K+1-th that passes every test, and a
+  // photograph that cannot enter the best K + 1 is never projected, depth-tested nor read.
+  float rankP[HV_MAX_RANK];
+  int rankI[HV_MAX_RANK];
+  int nRank = 0;
+  if (geometry) {
+    for (int k = 0; k < n; ++k) {
+      int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
+      // C and the focal length: t0.w, t1.w, t2.w and t8.z (hv_fetchImage).
+      vec3 C = vec3(texelFetch(u_params, ivec2(0, i), 0).w, texelFetch(u_params, ivec2(1, i), 0).w,
+                    texelFetch(u_params, ivec2(2, i), 0).w);
+      float pen = hv_penalty(C, texelFetch(u_params, ivec2(8, i), 0).z, P, normal);
+      if (nRank == HV_MAX_RANK && pen >= rankP[HV_MAX_RANK - 1]) continue;
+      int j = min(nRank, HV_MAX_RANK - 1);
+      while (j > 0 && rankP[j - 1] > pen) {
+        rankP[j] = rankP[j - 1];
+        rankI[j] = rankI[j - 1];
+        --j;
+      }
+      rankP[j] = pen;
+      rankI[j] = i;
+      nRank = min(nRank + 1, HV_MAX_RANK);
+    }
+  }
+  // A layered photograph's sub-images are consecutive with one group (in the list, and in the
+  // ranking: they share the photograph's centre and focal length): the first that passes stands
+  // for the photograph, the rest of its group are skipped.
   float doneGroup = 0.0;
-  for (int k = 0; k < n; ++k) {
-    int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
+  int visits = geometry ? nRank : n;
+  for (int k = 0; k < visits; ++k) {
+    int i = geometry ? rankI[k] : u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
+    float pen = geometry ? rankP[k] : 0.0;
     HvImage im = hv_fetchImage(i);
     if (im.group > 0.0 && im.group == doneGroup) continue;
     vec2 dt, uv, p, pd;
     float z;
     if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
-    // Geometry weights: a photograph ranked no better than the pixel's K+1-th so far cannot enter
-    // the best list, so it is dropped before its depth test and texel fetch (the costly part).
-    float pen = geometry ? hv_penalty(im, P, normal) : 0.0;
-    if (geometry && nBest == cap && pen >= bestP[cap - 1]) continue;
     if (im.layer > 0.0) {
       if (!hv_onPeeledSurface(im, z, dt, P)) continue;
     } else if (u_occlusion &&
@@ -425,19 +453,14 @@ void main() {
       if (blend.done) break;
       continue;
     }
-    int j = min(nBest, cap - 1);
-    while (j > 0 && bestP[j - 1] > pen) {
-      bestP[j] = bestP[j - 1];
-      bestT[j] = bestT[j - 1];
-      bestF[j] = bestF[j - 1];
-      bestI[j] = bestI[j - 1];
-      --j;
-    }
-    bestP[j] = pen;
-    bestT[j] = texel;
-    bestF[j] = feather;
-    bestI[j] = i;
-    nBest = min(nBest + 1, cap);
+    // Visited in ascending penalty: the best list grows at its end, and is complete with the
+    // K+1-th.
+    bestP[nBest] = pen;
+    bestT[nBest] = texel;
+    bestF[nBest] = feather;
+    bestI[nBest] = i;
+    nBest += 1;
+    if (nBest == cap) break;
   }
   if (consensus) {
     // The samples' blend weights, as below and in hv_accumulateFeathered, then the filter.

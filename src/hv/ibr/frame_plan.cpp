@@ -8,6 +8,11 @@
 
 namespace hv::ibr {
 
+int geometryBlendCount(int k, int geometryK) {
+  const int kk = std::max(k, 1);
+  return std::clamp(geometryK > 0 ? std::min(geometryK, kk) : kk, 1, kMaxGeometryK);
+}
+
 FramePlan planFrame(const Scene& scene, const CameraIndex& index, const Camera& view, const BlendSettings& s,
                     const Aabb& bounds, const FrustumIndex* frusta) {
   FramePlan plan;

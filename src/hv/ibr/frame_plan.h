@@ -49,12 +49,22 @@ enum class Weighting {
 
 // The most images the geometry weights blend at one pixel (the shader's arrays hold K + 1).
 inline constexpr int kMaxGeometryK = 16;
+// The most candidates the shader ranks by penalty at one pixel: those of its tile list, the best
+// by penalty kept when the list is longer (docs/design.md, "Weights that know geometry").
+inline constexpr int kMaxGeometryRank = 32;
+
+// How many images the geometry weights blend at one pixel: `geometryK` (0: k), at most k and
+// kMaxGeometryK, at least 1.
+int geometryBlendCount(int k, int geometryK);
 
 struct BlendSettings {
   int k = 8;  // images blended at one pixel (at most)
   Weighting weighting = Weighting::Distance;
   double resolutionWeight = 0.5;  // lambda: radians of penalty per unit of ln(footprint ratio)
   double penaltyEpsilon = 0.05;   // radians: f(p) = 1/(epsilon^2 + p^2) for the geometry weights
+  // Geometry weights: the images blended per pixel, the best by penalty (at most k, which keeps its
+  // meaning); 0: k. SIBR's unstructured lumigraph renderer blends the best 4.
+  int geometryK = 0;
   // Weights fall smoothly to 0 over this many photograph pixels toward each photograph's border,
   // lens domain edge and mask edges; 0: hard edges (the papers'). 4 by default: it takes 89 % of
   // the excess step off the photograph borders of the demo city's views for 0.03 dB of PSNR, and

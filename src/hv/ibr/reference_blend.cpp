@@ -139,7 +139,7 @@ BlendResult referenceBlend(const glm::dvec3& P, const std::vector<ImageParams>& 
   if (geometry && method != BlendMethod::Nearest) {
     std::stable_sort(passed.begin(), passed.end(),
                      [&](const auto& a, const auto& b) { return penalty[a.first] < penalty[b.first]; });
-    const size_t blended = std::min(passed.size(), size_t(std::max(k, 1)));
+    const size_t blended = std::min(passed.size(), size_t(geometryBlendCount(k, opt.geometryK)));
     const double fNext =
         passed.size() > blended ? blendFalloff(penalty[passed[blended].first], opt.penaltyEpsilon) : 0.0;
     for (size_t j = 0; j < blended; ++j)

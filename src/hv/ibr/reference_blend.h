@@ -46,6 +46,8 @@ struct BlendOptions {
   Weighting weighting = Weighting::Distance;
   double resolutionWeight = 0.5;
   double penaltyEpsilon = 0.05;
+  // Geometry weighting: the images blended per pixel (geometryBlendCount with k); 0: k.
+  int geometryK = 0;
   double featherPx = 0.0;
   // Transient filter (consensusWeights): the kernel's spread in RGB; 0: off.
   double consensusSpread = 0.0;
@@ -79,8 +81,8 @@ glm::dvec4 correctTexel(const ColourCorrection& colour, const glm::dvec4& texel)
 // alpha > 0) contribute w_i = f(d_i) - f(d_K+1), d_K+1 the distance of the K+1-th that passes at
 // this point (f = 0 when none does). Nearest: the first that passes, either way.
 // Geometry weighting (either selection): every image that passes is ranked by its penalty
-// p_i (hv/ibr/weights.h), ties in list order; the first k blend with f(p_i) - f(p_K+1), f with
-// sigma = penaltyEpsilon. Feathering multiplies each weight by featherFactor(borderDistance) and,
+// p_i (hv/ibr/weights.h), ties in list order; the first K = geometryBlendCount(k, geometryK)
+// blend with f(p_i) - f(p_K+1), f with sigma = penaltyEpsilon. Feathering multiplies each weight by featherFactor(borderDistance) and,
 // with a mask lookup, maskFeather of the mask at featherLevel. The transient filter
 // (consensusWeights, blend only) then reweights the first kMaxConsensusSamples contributing images.
 BlendResult referenceBlend(const glm::dvec3& pointRender, const std::vector<ImageParams>& images, BlendMethod method,

@@ -74,6 +74,30 @@ TEST_F(GeometryBlend, BestKByPenaltyWeightedAgainstTheNext) {
   EXPECT_NEAR(r.color.b, 1.0 / 3.0, 1e-12);
 }
 
+// geometryK: the images blended per pixel apart from --k, which stays the most blended at a pixel.
+TEST_F(GeometryBlend, GeometryKBlendsTheBestFewAgainstTheNext) {
+  EXPECT_EQ(geometryBlendCount(8, 0), 8);
+  EXPECT_EQ(geometryBlendCount(8, 4), 4);
+  EXPECT_EQ(geometryBlendCount(2, 4), 2);
+  EXPECT_EQ(geometryBlendCount(40, 0), kMaxGeometryK);
+  EXPECT_EQ(geometryBlendCount(0, 0), 1);
+  // K = 3 but geometryK = 1: A alone against B, as with K = 1.
+  opt.geometryK = 1;
+  BlendResult r = blend(3);
+  EXPECT_EQ(r.count, 1);
+  EXPECT_NEAR(r.alpha, f(pA) - f(pB), 1e-9);
+  EXPECT_NEAR(r.color.r, 1.0, 1e-12);
+  // geometryK = 2 with K = 1: K still bounds it.
+  opt.geometryK = 2;
+  r = blend(1);
+  EXPECT_EQ(r.count, 1);
+  EXPECT_NEAR(r.alpha, f(pA) - f(pB), 1e-9);
+  // geometryK = 2 with K = 3: A and B against C.
+  r = blend(3);
+  EXPECT_EQ(r.count, 2);
+  EXPECT_NEAR(r.alpha, f(pA) + f(pB) - 2.0 * f(pC), 1e-9);
+}
+
 TEST_F(GeometryBlend, ResolutionWeightPrefersTheSharperPhotograph) {
   // Move B right above P, closer than the view: theta 0, sharper (no penalty); A now loses.
   PinholeFrustum fr;

@@ -96,6 +96,7 @@ class RendererGlTest : public ::testing::Test {
     opt.weighting = b.weighting;
     opt.resolutionWeight = b.resolutionWeight;
     opt.penaltyEpsilon = b.penaltyEpsilon;
+    opt.geometryK = b.geometryK;
     opt.featherPx = b.featherPx;
     opt.consensusSpread = b.consensus;
     opt.viewCenter = view.center - scene.origin;
@@ -360,6 +361,11 @@ TEST_F(RendererGlTest, GeometryWeightsAndFeatheringMatchCpuReference) {
   settings.blend.k = 3;
   settings.blend.resolutionWeight = 2.0;
   compareWithReference(scene, settings, view, 5);
+  // geometry-k: the best 2 per pixel though K = 4 (the shader stops at the third that passes).
+  settings.blend.k = 4;
+  settings.blend.geometryK = 2;
+  compareWithReference(scene, settings, view, 5);
+  settings.blend.geometryK = 0;
   settings.blend.weighting = ibr::Weighting::Distance;
   settings.blend.featherPx = 12.0;
   settings.blend.k = 5;

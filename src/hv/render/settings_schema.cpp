@@ -187,6 +187,10 @@ std::vector<Setting> makeSchema() {
   t.push_back(field("penalty-epsilon", blend, "weights geometry: f(p) = 1/(epsilon^2 + p^2) of the penalty p",
                     [](auto& s) -> auto& { return s.blend.penaltyEpsilon; })
                   .unit("rad").above(0).atMost(10).slider(0.001, 1, true));
+  t.push_back(field("geometry-k", blend, "weights geometry: photographs blended per pixel, the best by penalty (at "
+                    "most --k, which keeps its meaning; SIBR's ULR blends 4); fewer is faster: the shader visits the "
+                    "candidates best first and stops at the K+1-th that passes; 0: --k",
+                    [](auto& s) -> auto& { return s.blend.geometryK; }).atLeast(0).atMost(16).slider(0, 16));
   t.push_back(field("feather", blend, "weights fall smoothly to 0 over this many photograph pixels toward each "
                     "photograph's border, lens domain edge and mask edges; 0: hard edges (the papers')",
                     [](auto& s) -> auto& { return s.blend.featherPx; })

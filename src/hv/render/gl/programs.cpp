@@ -118,6 +118,7 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   weighting = tiles("u_weighting");
   resolutionWeight = tiles("u_resolutionWeight");
   penaltyEpsilon = tiles("u_penaltyEpsilon");
+  geometryK = tiles("u_geometryK");
   viewFocal = tiles("u_viewFocal");
   feather = tiles("u_feather");
   maskFeather = tiles("u_maskFeather");

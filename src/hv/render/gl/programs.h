@@ -60,7 +60,7 @@ struct ShadeProgram {
   // Picture quality (the array binding only; -1 in the naive one): weights, feathering, mipmaps,
   // the transient filter.
   GLint weighting = -1, resolutionWeight = -1, penaltyEpsilon = -1, viewFocal = -1, feather = -1, maskFeather = -1,
-        mipmaps = -1, sliceWidth = -1, consensus = -1;
+        mipmaps = -1, sliceWidth = -1, consensus = -1, geometryK = -1;
   ShadeProgram() = default;
   // naiveCount > 0: the naive binding with that many images.
   explicit ShadeProgram(const ProgramSource& src, int naiveCount = 0);

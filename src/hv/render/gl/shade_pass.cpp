@@ -74,6 +74,7 @@ void GlBackend::bindShadeInputs(const Frame& f) {
     glUniform1i(p.weighting, b.weighting == ibr::Weighting::Geometry ? 1 : 0);
     glUniform1f(p.resolutionWeight, float(b.resolutionWeight));
     glUniform1f(p.penaltyEpsilon, float(b.penaltyEpsilon));
+    glUniform1i(p.geometryK, ibr::geometryBlendCount(b.k, b.geometryK));
     glUniform1f(p.viewFocal, float(0.5 * (view.focal.x + view.focal.y)));
     glUniform1f(p.feather, float(std::max(b.featherPx, 0.0)));
     glUniform1i(p.maskFeather, b.featherPx > 0.0 && b.masks ? 1 : 0);
