@@ -119,21 +119,25 @@ check "HV_NO_CACHE=1: asked again" test "$(requests "IIIF=")" -gt "$before"
 
 # --- the fault proxy (tests/services/fault_proxy.py), for the slow link and the faults below
 pport=$(free_port)
-python3 "$ROOT/tests/services/fault_proxy.py" "$pport" "$URL" "$DIR/proxy.log" >"$DIR/proxy.out" 2>&1 &
+# 8 KiB/s for the throttled link below.
+HV_FAULT_RATE=8192 python3 "$ROOT/tests/services/fault_proxy.py" "$pport" "$URL" "$DIR/proxy.log" >"$DIR/proxy.out" 2>&1 &
 proxy_pid=$!
 for _ in $(seq 50); do grep -q "fault proxy on" "$DIR/proxy.out" 2>/dev/null && break; sleep 0.1; done
 P=http://127.0.0.1:$pport
 
 # --- previews (a small size first): a progressive flight over one view, every response fetched
-# (HV_NO_CACHE=1) through a slow link (the fault proxy's `throttled-data`, 16 KiB/s: on loopback
-# alone the full images arrive before a preview is ever drawn). The first frame that shows
-# photographs shows their previews (asked by width, "W,"), the converged frame the full images,
-# as the views from the files.
+# (HV_NO_CACHE=1) through a slow link (the fault proxy's `throttled-data`, 8 KiB/s: on loopback
+# alone the full images arrive before a preview is ever drawn, and at 16 KiB/s, 1.2 s for the
+# four, they did so too when the first frame was slow). A preview (about 2.5 KB) then takes 0.3 s
+# and a full image (about 18 KB) 2.3 s, within the harness's 5 s time-out; the path lasts 12 s
+# (181 frames, 31 ms each on a quiet machine) so that the flight converges. The first frame that
+# shows photographs shows their previews (asked by width, "W,"), the converged frame the full
+# images, as the views from the files.
 cameras throttled "$P/throttled-data/iiif?IIIF={id}.tif/info.json"
 python3 - "$city/views.json" "$DIR/path.json" <<'PY'
 import json, sys
 view = json.load(open(sys.argv[1]))["cameras"][0]
-json.dump({"cameras": [dict(view, id="a", t=0), dict(view, id="b", t=4)]}, open(sys.argv[2], "w"))
+json.dump({"cameras": [dict(view, id="a", t=0), dict(view, id="b", t=12)]}, open(sys.argv[2], "w"))
 PY
 view_id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["id"])' "$city/views.json")
 flush_log

@@ -8,6 +8,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/scene/chunks.h"
+#include "hv/scene/point_normals.h"
 #include "hv/render/renderer.h"
 #include "hv/scene/native/raycast.h"
 #include "hv/image/native/png_write.h"
@@ -307,15 +308,19 @@ Scene withoutTransient(const Scene& scene) {
   std::vector<std::uint32_t> kept;
   for (std::uint32_t i = 0; i < c.size(); ++i)
     if (c.classification[i] != 5 && c.classification[i] != 1) kept.push_back(i);
+  // Normals estimated when first needed (hv/scene/point_normals.h): made now, over the whole cloud.
+  const std::vector<glm::vec3>& normals = pointNormals(c);
+  PointFields fields = c.fields();
+  fields.normals = !normals.empty();
   PointCloud out;
-  out.resize(kept.size(), c.fields());
+  out.resize(kept.size(), fields);
   for (size_t j = 0; j < kept.size(); ++j) {
     const std::uint32_t i = kept[j];
     out.positions[j] = c.positions[i];
     if (!c.intensity.empty()) out.intensity[j] = c.intensity[i];
     out.classification[j] = c.classification[i];
     if (!c.rgb.empty()) out.rgb[j] = c.rgb[i];
-    if (!c.normals.empty()) out.normals[j] = c.normals[i];
+    if (!normals.empty()) out.normals[j] = normals[i];
   }
   out.crs = c.crs;
   organizeChunks(out);
