@@ -1,0 +1,128 @@
+// Service scenes for the page (docs/services.md, "In the browser"): reads a service description
+// (`?scene=URL`), fetches what it names from the services, and writes the answers into the
+// WebAssembly module's file system beside a manifest (hv/io/web_scene.h) that the module reads.
+// Loaded before histoview.js, which calls window.hvServices.loadServiceScene.
+'use strict';
+
+window.hvServices = (() => {
+  // A service scene (docs/services.md, "In the browser"). The description, a JSON object:
+  //   {"format": "histoview-services", "version": 1, "crs": "EPSG:2154",
+  //    "files": "scene_web.json",                       (a web export: origin, terrain, points, traffic)
+  //    "terrain": {"path": "WCS:http://…/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm"},
+  //    "buildings": {"path": "WFS:http://…/mapserv?map=city&TYPENAME=ms:buildings", "height": "height"},
+  //    "cameras": {"path": "http://…/cameras.json"}}
+  // paths relative to the description's URL. The buildings: WFS 2.0 GetFeature as GeoJSON in the
+  // scene's CRS, by pages of FEATURE_PAGE (STARTINDEX), or OGC API – Features `items` in the
+  // scene's CRS (`crs`, Part 2) following the `next` links; at most MAX_FEATURE_PAGES pages. The
+  // DTM the buildings stand on: WCS GetCoverage as an ESRI ASCII grid (text/plain). Both are
+  // written into the file system beside a manifest naming them (hv/io/web_scene.h, "buildings"),
+  // which the WebAssembly module reads and extrudes as the native loader does. The export's own
+  // buildings mesh is not fetched. The cameras file by URL, the photographs relative to it.
+  const FEATURE_PAGE = 1000, MAX_FEATURE_PAGES = 100;
+  async function fetchText(url) {
+    const r = await fetch(url);
+    const text = await r.text();
+    if (!r.ok) throw new Error(url + ': HTTP ' + r.status + (text ? ': ' + text.slice(0, 200) : ''));
+    return { text, type: r.headers.get('Content-Type') || '', crs: r.headers.get('Content-Crs') };
+  }
+  // The text/plain part of a WCS 2.0 multipart answer (MapServer sends the coverage as the second
+  // part of multipart/related), else the whole body.
+  function coveragePart(text, type) {
+    const m = /boundary="?([^";]+)"?/.exec(type);
+    if (!/multipart/i.test(type) || !m) return text;
+    for (const part of text.split('--' + m[1])) {
+      const at = part.search(/\r?\n\r?\n/);
+      if (at < 0) continue;
+      const head = part.slice(0, at);
+      if (/Content-Type:\s*text\/plain/i.test(head)) return part.slice(at).replace(/^\s+/, '').replace(/\s+$/, '');
+    }
+    throw new Error('the WCS answer has no text/plain part (expected the coverage as an ESRI ASCII grid)');
+  }
+  const servicePath = (source, what, prefix) => {
+    if (!source || typeof source.path !== 'string') throw new Error(what + ': expected {"path": "' + prefix + 'http://…"}');
+    return source.path;
+  };
+  async function loadServiceScene(descUrl, put) {
+    const desc = JSON.parse((await fetchText(descUrl)).text);
+    if (desc.format !== 'histoview-services') throw new Error(descUrl + ': not a service scene ("format": "histoview-services" expected)');
+    const info = { description: descUrl, featurePages: 0, features: 0, requests: [] };
+    const sceneBase = new URL(desc.files || 'scene_web.json', descUrl).href;
+    const manifest = JSON.parse((await fetchText(sceneBase)).text);
+    manifest.meshes = manifest.meshes.filter((m) => m.name !== 'buildings');
+    const crs = desc.crs || manifest.crs;
+    const b = { geojson: [] };
+    // The buildings.
+    const bpath = servicePath(desc.buildings, descUrl + ': buildings', 'WFS:');
+    for (const k of ['height', 'base', 'top', 'validFrom', 'validTo']) if (desc.buildings[k]) b[k] = desc.buildings[k];
+    const pagePut = (text) => {
+      const name = `services/buildings-${b.geojson.length}.json`;
+      put(name, new TextEncoder().encode(text));
+      b.geojson.push(name);
+      const doc = JSON.parse(text);
+      info.featurePages++;
+      info.features += (doc.features || []).length;
+      return doc;
+    };
+    if (bpath.startsWith('WFS:')) {
+      const u = new URL(bpath.slice(4), descUrl);
+      const typeName = u.searchParams.get('TYPENAME') || u.searchParams.get('TYPENAMES');
+      if (!typeName) throw new Error(bpath + ': no TYPENAME (expected the feature type, e.g. TYPENAME=ms:buildings)');
+      for (const k of ['TYPENAME', 'TYPENAMES']) u.searchParams.delete(k);
+      for (let start = 0; ; start += FEATURE_PAGE) {
+        if (info.featurePages >= MAX_FEATURE_PAGES) throw new Error(bpath + ': more than ' + MAX_FEATURE_PAGES * FEATURE_PAGE + ' features (not read further)');
+        const q = new URL(u);
+        for (const [k, v] of Object.entries({ SERVICE: 'WFS', VERSION: '2.0.0', REQUEST: 'GetFeature', TYPENAMES: typeName,
+          OUTPUTFORMAT: 'geojson', SRSNAME: crs, COUNT: FEATURE_PAGE, STARTINDEX: start })) q.searchParams.set(k, v);
+        info.requests.push(q.href);
+        const doc = pagePut((await fetchText(q.href)).text);
+        if (!Array.isArray(doc.features) || doc.features.length < FEATURE_PAGE) break;
+      }
+    } else if (bpath.startsWith('OAPIF:')) {
+      const code = /^EPSG:(\d+)$/.exec(crs || '');
+      if (!code) throw new Error(bpath + ': the scene CRS ' + crs + ' is not EPSG:n (the browser asks the service for it)');
+      const crsUri = 'http://www.opengis.net/def/crs/EPSG/0/' + code[1];
+      const items = new URL(bpath.slice(6).replace(/\/?$/, '/items'), descUrl);
+      items.searchParams.set('f', 'json');
+      items.searchParams.set('limit', FEATURE_PAGE);
+      items.searchParams.set('crs', crsUri);
+      for (let next = items.href; next;) {
+        if (info.featurePages >= MAX_FEATURE_PAGES) throw new Error(bpath + ': more than ' + MAX_FEATURE_PAGES + ' pages (not read further)');
+        info.requests.push(next);
+        const r = await fetchText(next);
+        // Without the CRS asked for, the features are longitude, latitude (CRS84): the browser
+        // does not reproject, so they are refused rather than placed wrong.
+        if (!r.crs || !r.crs.includes(crsUri))
+          throw new Error(next + ': the service did not answer in ' + crs + ' (Content-Crs: ' + (r.crs || 'none, i.e. CRS84') +
+                          '); the browser does not reproject: use a WFS (WFS:…) that serves the scene CRS');
+        const doc = pagePut(r.text);
+        const link = (doc.links || []).find((l) => l.rel === 'next');
+        next = link ? new URL(link.href, next).href : null;
+      }
+    } else {
+      throw new Error(bpath + ': the browser reads buildings from WFS: or OAPIF: sources (expected one)');
+    }
+    // The DTM under the buildings.
+    if (desc.terrain) {
+      const tpath = servicePath(desc.terrain, descUrl + ': terrain', 'WCS:');
+      if (!tpath.startsWith('WCS:')) throw new Error(tpath + ': the browser reads the terrain from a WCS: source');
+      const q = new URL(tpath.slice(4), descUrl);
+      q.searchParams.set('REQUEST', 'GetCoverage');
+      q.searchParams.set('FORMAT', 'text/plain');
+      info.requests.push(q.href);
+      const r = await fetchText(q.href);
+      put('services/dtm.asc', new TextEncoder().encode(coveragePart(r.text, r.type)));
+      b.dtm = 'services/dtm.asc';
+    }
+    manifest.buildings = b;
+    // The cameras file by URL (the photographs' paths relative to it).
+    const cpath = servicePath(desc.cameras, descUrl + ': cameras', '');
+    const camerasUrl = new URL(cpath, descUrl).href;
+    put('cameras.json', new TextEncoder().encode((await fetchText(camerasUrl)).text));
+    manifest.cameras = 'cameras.json';
+    put('scene_web.json', new TextEncoder().encode(JSON.stringify(manifest)));
+    console.log(`histoview: service scene ${descUrl}: ${info.features} features in ${info.featurePages} pages`);
+    return { manifest, sceneBase, photoBase: camerasUrl, info };
+  }
+
+  return { loadServiceScene };
+})();
