@@ -63,34 +63,14 @@ for b in base:
         raise SystemExit(f"{b['id']}: {b['width']}x{b['height']}, {b.get('distortion')}: expected sides that "
                          f"are multiples of {SHRINK} and no distortion or a radial one")
 
+sys.path.insert(0, os.path.abspath(os.path.join("tests", "services")))  # run from the repository root
+from png_read import decode_png  # the services tests' PNG decoder (standard library only)
+
 def read_png(path):
-    """8-bit RGB, non-interlaced PNG (what the demo writes) -> (width, height, bytearray rows)."""
-    data = open(path, "rb").read()
-    pos, idat, hdr = 8, b"", None
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        chunk = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR": hdr = struct.unpack(">IIBBBBB", chunk)
-        elif kind == b"IDAT": idat += chunk
-        pos += 12 + n
-    w, h, depth, ctype, _, _, interlace = hdr
-    if (depth, ctype, interlace) != (8, 2, 0):
-        raise SystemExit(f"{path}: expected an 8-bit RGB non-interlaced PNG, got depth {depth}, colour type {ctype}")
-    raw, stride, prev, rows = zlib.decompress(idat), w * 3, bytearray(w * 3), []
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):  # PNG filters (ISO 15948 §9)
-            a = line[i - 3] if i >= 3 else 0
-            b, c = prev[i], (prev[i - 3] if i >= 3 else 0)
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        prev = line
+    """8-bit RGB PNG (what the demo writes) -> (width, height, bytearray rows)."""
+    w, h, channels, rows = decode_png(path)
+    if channels != 3:
+        raise SystemExit(f"{path}: expected an 8-bit RGB PNG, got {channels} channels")
     return w, h, rows
 
 def shrink(w, h, rows):
@@ -144,8 +124,14 @@ for i in range(count):
 json.dump({"cameras": cameras}, open(os.path.join(city, "cameras.json"), "w"))
 
 scene = json.load(open(os.path.join(demo, "scene.json")))
-for key in ("terrain", "buildings", "points"):
+for key in ("terrain", "buildings", "points", "orthophoto"):
     if key in scene: scene[key]["path"] = os.path.join(demo, scene[key]["path"])
+# The traffic only where the demo ran SUMO (its FCD output), with the paths made absolute.
+traffic = scene.pop("traffic", None)
+if traffic and os.path.exists(os.path.join(demo, traffic["fcd"])):
+    traffic["fcd"] = os.path.join(demo, traffic["fcd"])
+    traffic["models"] = {k: os.path.join(demo, v) for k, v in traffic.get("models", {}).items()}
+    scene["traffic"] = traffic
 scene["cameras"] = {"path": "cameras.json"}
 json.dump(scene, open(os.path.join(city, "scene.json"), "w"), indent=1)
 

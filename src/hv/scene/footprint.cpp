@@ -7,9 +7,6 @@
 
 namespace hv {
 
-namespace {
-
-// Twice the signed area (shoelace formula): positive for a counter-clockwise ring.
 double twiceSignedArea(const std::vector<glm::dvec2>& ring) {
   double a = 0.0;
   for (size_t k = 0, n = ring.size(); k < n; ++k) {
@@ -19,6 +16,8 @@ double twiceSignedArea(const std::vector<glm::dvec2>& ring) {
   }
   return a;
 }
+
+namespace {
 
 double cross(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);

@@ -30,6 +30,9 @@ struct Footprint {
   std::optional<std::string> validFrom, validTo;  // ISO dates (time filtering)
 };
 
+// Twice the signed area of a ring (shoelace formula): positive for a counter-clockwise ring.
+double twiceSignedArea(const std::vector<glm::dvec2>& ring);
+
 // "footprint ID: message" (InputError's form).
 std::string footprintMessage(const Footprint& footprint, const std::string& message);
 

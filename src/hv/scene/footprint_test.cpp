@@ -40,6 +40,14 @@ void expectCovers(const std::vector<Ring>& rings, double area, std::size_t trian
   EXPECT_EQ(tris.size(), triangles);
 }
 
+TEST(TwiceSignedArea, SignFollowsTheWinding) {
+  // A 4 x 3 right triangle (area 6) and a unit square, both ways round.
+  EXPECT_DOUBLE_EQ(twiceSignedArea(Ring{{0, 0}, {4, 0}, {0, 3}}), 12.0);
+  EXPECT_DOUBLE_EQ(twiceSignedArea(Ring{{0, 0}, {0, 3}, {4, 0}}), -12.0);
+  EXPECT_DOUBLE_EQ(twiceSignedArea(Ring{{10, 10}, {11, 10}, {11, 11}, {10, 11}}), 2.0);
+  EXPECT_DOUBLE_EQ(twiceSignedArea(Ring{{0, 0}, {1, 0}, {2, 0}}), 0.0);  // collinear
+}
+
 TEST(EarClip, ConvexAndConcaveRings) {
   expectCovers({{{0, 0}, {4, 0}, {4, 3}, {0, 3}}}, 12.0, 2);
   // An L (area 4 x 4 - 2 x 2), given clockwise: oriented first.

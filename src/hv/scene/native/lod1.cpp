@@ -13,17 +13,6 @@ namespace hv {
 
 namespace {
 
-// Twice the signed area (shoelace formula): positive for a counter-clockwise ring.
-double twiceSignedArea(const std::vector<glm::dvec2>& ring) {
-  double a = 0.0;
-  for (size_t k = 0, n = ring.size(); k < n; ++k) {
-    const glm::dvec2& p = ring[k];
-    const glm::dvec2& q = ring[(k + 1) % n];
-    a += p.x * q.y - q.x * p.y;
-  }
-  return a;
-}
-
 // A reentrant GEOS context per call: footprints may be extruded from several threads, and the
 // context is where GEOS leaves its last error message.
 class GeosContext {
