@@ -149,7 +149,10 @@ TEST_F(ResponseCache, StoresAndReadsByKeyUnderTheCap) {
   writeCachedResponse(s, "GDAL http://h/big", std::string(2000, 'x'));  // over the cap: not kept
   EXPECT_FALSE(readCachedResponse(s, "GDAL http://h/big", 1 << 20));
   EXPECT_TRUE(readCachedResponse(s, "GDAL http://h/a", 1 << 20));  // and it evicted nothing
-  // A second response that does not fit beside the first evicts it (the least recently used).
+  // A second response that does not fit beside the first evicts it (the least recently used: last
+  // used a minute ago, so that the file system's coarse clock cannot order them the other way).
+  fs::last_write_time(responseCacheFile(s.folder, "GDAL http://h/a"),
+                      fs::file_time_type::clock::now() - std::chrono::seconds(60));
   writeCachedResponse(s, "GDAL http://h/b", std::string(980, 'y'));
   EXPECT_FALSE(readCachedResponse(s, "GDAL http://h/a", 1 << 20));
   EXPECT_TRUE(readCachedResponse(s, "GDAL http://h/b", 1 << 20));
