@@ -21,6 +21,8 @@
 #                           an iiif/ folder and iipsrv is installed
 #   WMTS                    the orthophoto, layer "orthophoto", by MapCache under /mapcache/wmts,
 #                           when DIR has orthophoto.tif and mapcache-cgi is installed
+#   WMTS                    the DTM, layer "dtm", float32 GeoTIFF tiles from MapServer's WMS, by
+#                           MapCache under /elevation/wmts, when mapcache-cgi is installed
 # Every response carries Access-Control-Allow-Origin: *. Everything runs as the invoking user; the
 # configuration, logs and pidfile live in a private temporary folder (printed by `up`), never in DIR.
 set -euo pipefail
@@ -282,34 +284,41 @@ elif [[ -d $DIR/iiif ]]; then
   echo "services.sh: $IIPSRV not found: no IIIF service (package iipimage-server)" >&2
 fi
 
-# WMTS: the orthophoto (DIR/orthophoto.tif, written by histoview demo) through MapCache (Debian's
-# mapcache-cgi) as a CGI program, its GDAL source reading the file, tiles cached under the state
-# folder. One grid in EPSG:2154 over the orthophoto's own extent, its top-left corner that of the
-# file and its finest level the file's own pixel, so a tile's pixels are the file's pixels; two
-# coarser levels for GDAL's overview choice.
+# WMTS by MapCache (Debian's mapcache-cgi) as a CGI program, tiles cached under the state folder;
+# one configuration (and URL) per layer, so that each WMTS has the one layer GDAL opens unasked.
+#   /mapcache   the orthophoto (DIR/orthophoto.tif, written by histoview demo): MapCache's GDAL
+#               source reading the file, PNG tiles. One grid in EPSG:2154 over the orthophoto's own
+#               extent, its top-left corner that of the file and its finest level the file's own
+#               pixel, so a tile's pixels are the file's pixels; two coarser levels for GDAL's
+#               overview choice.
+#   /elevation  the DTM as float32 GeoTIFF tiles: MapCache's WMS source asks MapServer's WMS (layer
+#               dtm, FORMAT=image/tiff: the GTiff32 output format, nearest sampling) and its RAW
+#               format keeps MapServer's answer byte for byte (MapCache's image formats are 8-bit).
+#               The grid is the DTM's own (top-left corner, cell size; two coarser levels), so a
+#               tile's cells are the file's cells.
 MAPCACHE=${HV_MAPCACHE:-/usr/lib/cgi-bin/mapcache}
 mapcache_conf=
-if [[ -f $DIR/orthophoto.tif && -x $MAPCACHE ]]; then
-  read -r _ _ ominx ominy omaxx omaxy ores _ _ < <(tiff_grid "$DIR/orthophoto.tif") ||
-    die "$DIR/orthophoto.tif: cannot read its size and georeferencing"
-  mkdir -p "$STATE/mapcache-tiles" "$STATE/mapcache-lock"
-  cat >"$STATE/mapcache.xml" <<EOF
+mapcache_ortho=
+# mapcache_xml NAME GRID_EXTENT RESOLUTION SOURCE_XML FORMAT_XML FORMAT: a configuration of one
+# tileset NAME over one grid, written to $STATE/mapcache-NAME.xml.
+mapcache_xml() {
+  cat >"$STATE/mapcache-$1.xml" <<EOF
 <?xml version="1.0" encoding="UTF-8"?>
 <mapcache>
-  <source name="orthophoto" type="gdal"><data>$DIR/orthophoto.tif</data></source>
   <cache name="disk" type="disk"><base>$STATE/mapcache-tiles</base></cache>
-  <grid name="city">
-    <metadata><title>EPSG:2154 over the orthophoto</title></metadata>
+  $4
+  <grid name="$1">
+    <metadata><title>EPSG:2154 over the $1</title></metadata>
     <srs>EPSG:2154</srs>
     <size>256 256</size>
-    <extent>$ominx $ominy $omaxx $omaxy</extent>
+    <extent>$2</extent>
     <origin>top-left</origin>
     <units>m</units>
-    <resolutions>$(python3 -c "import sys; r = float(sys.argv[1]); print(r * 4, r * 2, r)" "$ores")</resolutions>
+    <resolutions>$(python3 -c "import sys; r = float(sys.argv[1]); print(repr(r * 4), repr(r * 2), repr(r))" "$3")</resolutions>
   </grid>
-  <format name="PNG32" type="PNG"><compression>fast</compression></format>
-  <tileset name="orthophoto">
-    <source>orthophoto</source><cache>disk</cache><grid>city</grid><format>PNG32</format>
+  $5
+  <tileset name="$1">
+    <source>$1</source><cache>disk</cache><grid>$1</grid><format>$6</format>
     <metatile>1 1</metatile><metabuffer>0</metabuffer>
   </tileset>
   <service type="wmts" enabled="true"/>
@@ -319,16 +328,34 @@ if [[ -f $DIR/orthophoto.tif && -x $MAPCACHE ]]; then
   <threaded_fetching>false</threaded_fetching>
 </mapcache>
 EOF
-  mapcache_conf=$(cat <<MC
-alias.url += ("/mapcache" => "$MAPCACHE")
-\$HTTP["url"] =~ "^/mapcache" {
+}
+if [[ -x $MAPCACHE ]]; then
+  mkdir -p "$STATE/mapcache-tiles" "$STATE/mapcache-lock"
+  if [[ -f $DIR/orthophoto.tif ]]; then
+    read -r _ _ ominx ominy omaxx omaxy ores _ _ < <(tiff_grid "$DIR/orthophoto.tif") ||
+      die "$DIR/orthophoto.tif: cannot read its size and georeferencing"
+    mapcache_ortho=1
+    mapcache_xml orthophoto "$ominx $ominy $omaxx $omaxy" "$ores" \
+      "<source name=\"orthophoto\" type=\"gdal\"><data>$DIR/orthophoto.tif</data></source>" \
+      '<format name="PNG32" type="PNG"><compression>fast</compression></format>' PNG32
+  fi
+  mapcache_xml dtm "$minx $miny $maxx $maxy" "$resx" \
+    "<source name=\"dtm\" type=\"wms\"><getmap><params><FORMAT>image/tiff</FORMAT><LAYERS>dtm</LAYERS></params></getmap><http><url>$URL/mapserv?map=city</url></http></source>" \
+    '<format name="float32" type="RAW"><extension>tif</extension><mime_type>image/tiff</mime_type></format>' float32
+  # mapcache_cgi PREFIX NAME: lighttpd runs MapCache under PREFIX with mapcache-NAME.xml.
+  mapcache_cgi() {
+    cat <<MC
+alias.url += ("/$1" => "$MAPCACHE")
+\$HTTP["url"] =~ "^/$1/" {
   cgi.assign = ("" => "")
-  setenv.add-environment = ("MAPCACHE_CONFIG_FILE" => "$STATE/mapcache.xml")
+  setenv.add-environment = ("MAPCACHE_CONFIG_FILE" => "$STATE/mapcache-$2.xml")
 }
 MC
-)
-elif [[ -f $DIR/orthophoto.tif ]]; then
-  echo "services.sh: $MAPCACHE not found: no WMTS of the orthophoto (package mapcache-cgi)" >&2
+  }
+  mapcache_conf=$(mapcache_cgi elevation dtm)
+  if [[ -n $mapcache_ortho ]]; then mapcache_conf+=$'\n'$(mapcache_cgi mapcache orthophoto); fi
+else
+  echo "services.sh: $MAPCACHE not found: no WMTS of the orthophoto and the DTM (package mapcache-cgi)" >&2
 fi
 
 cat >"$STATE/lighttpd.conf" <<EOF
@@ -379,7 +406,8 @@ serving $DIR on $URL (state: $STATE)
   OGC API:        OAPIF:$URL/mapserv/city/ogcapi/collections/buildings
 ${cameras_layer:+  WFS cameras:    WFS:$URL/mapserv?map=city&TYPENAME=ms:cameras
 }${iiif_conf:+  IIIF:           $URL/iiif?IIIF=NAME.tif/info.json (NAME.tif in $DIR/iiif/)
-}${mapcache_conf:+  WMTS orthophoto: WMTS:$URL/mapcache/wmts?SERVICE=WMTS&REQUEST=GetCapabilities
+}${mapcache_ortho:+  WMTS orthophoto: WMTS:$URL/mapcache/wmts?SERVICE=WMTS&REQUEST=GetCapabilities
+}${mapcache_conf:+  WMTS elevation: $URL/elevation/wmts?SERVICE=WMTS&REQUEST=GetCapabilities (float32 tiles: a GDAL_WMTS description says so, docs/services.md)
 }  files:          $URL/files/cameras.json
 stop with: tools/services.sh down $DIR
 EOF

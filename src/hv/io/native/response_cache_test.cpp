@@ -13,6 +13,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace hv {
 namespace {
@@ -66,6 +67,16 @@ TEST_F(ResponseCache, SettingsFromTheEnvironment) {
     EXPECT_EQ(responseCacheSettings().capBytes, std::uint64_t(3) << 20);
   }
   {
+    ScopedEnv cap("HV_CACHE_MAX_MB", "0.25");  // decimals: a quarter of a MiB
+    const ResponseCacheSettings s = responseCacheSettings();
+    EXPECT_EQ(s.capBytes, std::uint64_t(1) << 18);
+    EXPECT_EQ(s.tileFolder, dir_.string() + "/gdal-wms");  // GDAL's tiles, under the same cap
+  }
+  {
+    ScopedEnv cap("HV_CACHE_MAX_MB", "-1");  // refused: the default
+    EXPECT_EQ(responseCacheSettings().capBytes, kDefaultResponseCacheMiB << 20);
+  }
+  {
     ScopedEnv cap("HV_CACHE_MAX_MB", "lots");  // refused with a warning: the default
     EXPECT_EQ(responseCacheSettings().capBytes, kDefaultResponseCacheMiB << 20);
   }
@@ -107,6 +118,47 @@ TEST_F(ResponseCache, TrimsTheLeastRecentlyUsedFirst) {
   EXPECT_TRUE(fs::exists(dir_ / "x.tmp1-0"));
   EXPECT_EQ(trimResponseCache(dir_.string(), 399), 0u);
   EXPECT_EQ(trimResponseCache((dir_ / "none").string(), 10), 0u);  // no folder yet
+}
+
+TEST_F(ResponseCache, OneCapOverTheResponsesAndGdalsTiles) {
+  // GDAL's tile cache keeps files in sub-folders: trimmed with the responses, oldest first.
+  fs::create_directories(dir_ / "responses");
+  fs::create_directories(dir_ / "gdal-wms" / "a" / "b");
+  entry("responses/r1", 300, 400);
+  entry("gdal-wms/a/b/t1", 300, 300);
+  entry("responses/r2", 300, 200);
+  entry("gdal-wms/a/b/t2", 300, 100);
+  const std::vector<std::string> both{(dir_ / "responses").string(), (dir_ / "gdal-wms").string()};
+  EXPECT_EQ(trimResponseCache(both, 1200), 1200u);
+  EXPECT_EQ(trimResponseCache(both, 700), 600u);
+  EXPECT_FALSE(fs::exists(dir_ / "responses" / "r1"));
+  EXPECT_FALSE(fs::exists(dir_ / "gdal-wms" / "a" / "b" / "t1"));
+  EXPECT_TRUE(fs::exists(dir_ / "responses" / "r2"));
+  EXPECT_TRUE(fs::exists(dir_ / "gdal-wms" / "a" / "b" / "t2"));
+}
+
+TEST_F(ResponseCache, StoresAndReadsByKeyUnderTheCap) {
+  ResponseCacheSettings s;
+  s.folder = (dir_ / "responses").string();
+  s.capBytes = 1000;
+  EXPECT_FALSE(readCachedResponse(s, "GDAL http://h/a", 1 << 20));
+  writeCachedResponse(s, "GDAL http://h/a", "text/xml\n<a/>");
+  EXPECT_EQ(readCachedResponse(s, "GDAL http://h/a", 1 << 20), std::optional<std::string>("text/xml\n<a/>"));
+  EXPECT_FALSE(readCachedResponse(s, "http://h/a", 1 << 20));  // another key: readRemote's entry
+  EXPECT_FALSE(readCachedResponse(s, "GDAL http://h/a", 4));   // over the reader's limit
+  writeCachedResponse(s, "GDAL http://h/big", std::string(2000, 'x'));  // over the cap: not kept
+  EXPECT_FALSE(readCachedResponse(s, "GDAL http://h/big", 1 << 20));
+  EXPECT_TRUE(readCachedResponse(s, "GDAL http://h/a", 1 << 20));  // and it evicted nothing
+  // A second response that does not fit beside the first evicts it (the least recently used: last
+  // used a minute ago, so that the file system's coarse clock cannot order them the other way).
+  fs::last_write_time(responseCacheFile(s.folder, "GDAL http://h/a"),
+                      fs::file_time_type::clock::now() - std::chrono::seconds(60));
+  writeCachedResponse(s, "GDAL http://h/b", std::string(980, 'y'));
+  EXPECT_FALSE(readCachedResponse(s, "GDAL http://h/a", 1 << 20));
+  EXPECT_TRUE(readCachedResponse(s, "GDAL http://h/b", 1 << 20));
+  ResponseCacheSettings off;  // no folder: nothing read or written
+  writeCachedResponse(off, "GDAL http://h/c", "x");
+  EXPECT_FALSE(readCachedResponse(off, "GDAL http://h/c", 1 << 20));
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "hv/io/native/private/gdal_init.h"
+#include "hv/io/native/private/service_fetch.h"
 
 #include <cpl_conv.h>
 #include <gdal.h>
@@ -22,6 +23,19 @@ void ensureRegistered() {
     // What the user set (environment, --config) wins; CPLGetConfigOption reads the environment.
     for (const HttpDefault& d : kHttpDefaults)
       if (!CPLGetConfigOption(d.key, nullptr)) CPLSetConfigOption(d.key, d.value);
+    // GDAL's WMS and WMTS drivers keep the tiles they fetched in ./gdalwmscache by default, beside
+    // whatever folder histoview runs in: histoview's cache folder instead, under its cap, and none
+    // when the cache is off (docs/services.md, "Cache"). What the user set wins.
+    if (!CPLGetConfigOption("GDAL_DEFAULT_WMS_CACHE_PATH", nullptr) &&
+        !CPLGetConfigOption("GDAL_ENABLE_WMS_CACHE", nullptr)) {
+      const ResponseCacheSettings cache = responseCacheSettings();
+      if (cache.tileFolder.empty())
+        CPLSetConfigOption("GDAL_ENABLE_WMS_CACHE", "NO");
+      else
+        CPLSetConfigOption("GDAL_DEFAULT_WMS_CACHE_PATH", cache.tileFolder.c_str());
+    }
+    // Services' requests through the response cache, with progress (service_fetch.h).
+    installServiceFetch();
     GDALAllRegister();
   });
 }

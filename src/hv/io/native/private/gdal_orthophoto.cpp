@@ -11,6 +11,7 @@
 #include "hv/io/native/georef.h"
 #include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/native/private/gdal_init.h"
+#include "hv/io/native/private/service_fetch.h"
 #include "hv/io/native/remote.h"
 #include "hv/util/log.h"
 
@@ -72,15 +73,8 @@ Orthophoto readOrthophoto(const OrthophotoRequest& r, Diagnostics& diag) {
   if (!(r.maxX > r.minX) || !(r.maxY > r.minY))
     throw InputError(inputMessage(path, field, "no terrain extent to read it over (expected a terrain)"));
   gdal::requireOpenable(path, field, false);
-  // GDAL's WMS and WMTS drivers keep the tiles they fetched in ./gdalwmscache by default, beside
-  // whatever folder histoview runs in: histoview's cache folder instead (docs/services.md, "Cache").
-  if (!CPLGetConfigOption("GDAL_DEFAULT_WMS_CACHE_PATH", nullptr)) {
-    const std::string cache = cacheFolder();
-    if (cache.empty())
-      CPLSetConfigOption("GDAL_ENABLE_WMS_CACHE", "NO");
-    else
-      CPLSetConfigOption("GDAL_DEFAULT_WMS_CACHE_PATH", (cache + "/gdal-wms").c_str());
-  }
+  // GDAL's WMS and WMTS drivers keep their tiles in histoview's cache folder (gdal::ensureRegistered).
+  const gdal::ServiceProgress progress("the orthophoto", path);
   DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
   if (!ds)
     throw InputError(inputMessage(path, field, "cannot open as a raster: " + gdal::lastError("unknown format")));
@@ -185,6 +179,7 @@ Orthophoto readOrthophoto(const OrthophotoRequest& r, Diagnostics& diag) {
   }
   log::debug("orthophoto: " + path + ": " + std::to_string(cols) + "x" + std::to_string(rows) + ", " +
              std::to_string(w / cols) + " m per pixel" + (warp ? ", warped into the scene CRS" : ""));
+  gdal::trimTileCache();
   return o;
 }
 

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "hv/io/native/private/gdal_init.h"
+#include "hv/io/native/private/service_fetch.h"
 #include "hv/io/native/raster.h"
 #include "hv/io/native/remote.h"
 #include "hv/io/native/terrain_raster.h"
@@ -292,9 +293,11 @@ Heightfield readHeightfield(const std::string& path) {
 GeoreferencedHeightfield readHeightfield(const std::string& path, const SourceGeoref& georef, Diagnostics& diag) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
+  const gdal::ServiceProgress progress("terrain", path);  // a line per service request
   const DatasetPtr ds = openRaster(path);
   GeoreferencedHeightfield out;
   Heightfield f = readGrid(ds.get(), path, &diag);
+  gdal::trimTileCache();  // a WMTS's tiles in GDAL's cache, under histoview's cap
   const double bandToMetre = bandUnitToMetre(ds.get(), path, diag);
   out.sourceCrs = sourceCrsOf(georef, f.crs);
   if (out.sourceCrs.empty()) {  // no scene CRS: a local frame, the raster as it is
@@ -436,6 +439,7 @@ void addOverviews(const std::string& path, const std::vector<int>& factors, cons
 RasterSize rasterSize(const std::string& path) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
+  const gdal::ServiceProgress progress("terrain", path);
   const DatasetPtr ds = openRaster(path);
   return {ds->GetRasterXSize(), ds->GetRasterYSize(), ds->GetRasterBand(1)->GetOverviewCount()};
 }
@@ -573,6 +577,7 @@ std::shared_ptr<TerrainRaster> TerrainRaster::open(const std::string& path, cons
                                                    Diagnostics& diag, std::string& whyNot) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
+  const gdal::ServiceProgress progress("terrain", path);
   std::shared_ptr<TerrainRaster> raster(new TerrainRaster());
   Impl& m = *raster->impl_;
   m.path = path;

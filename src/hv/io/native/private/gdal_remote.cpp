@@ -4,6 +4,7 @@
 #include <cpl_vsi.h>
 
 #include "hv/io/native/private/gdal_init.h"
+#include "hv/io/native/private/service_fetch.h"
 #include "hv/io/native/remote.h"
 #include "hv/util/diagnostics.h"
 #include "hv/util/input_file.h"
@@ -11,6 +12,7 @@
 #include "hv/util/log.h"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -32,6 +34,13 @@ bool startsWithNoCase(const std::string& s, const char* prefix) { return STARTS_
 
 std::string sizeLimitText(std::uint64_t bytes) { return std::to_string(bytes) + " bytes"; }
 
+// The folders the cap holds together: the responses and GDAL's WMS/WMTS tiles beside them.
+std::vector<std::string> cacheFoldersOf(const ResponseCacheSettings& settings) {
+  std::vector<std::string> folders{settings.folder};
+  if (!settings.tileFolder.empty()) folders.push_back(settings.tileFolder);
+  return folders;
+}
+
 std::mutex gCountsMutex;
 RemoteFetchCounts gCounts;
 
@@ -49,7 +58,9 @@ void countResponse(bool fromCache, std::uint64_t bytes) {
 std::string readHttp(const std::string& url, std::uint64_t maxBytes, const std::string& what) {
   const std::string maxSize = "MAX_FILE_SIZE=" + std::to_string(maxBytes);
   const char* const options[] = {maxSize.c_str(), nullptr};
-  // CPLHTTPFetch takes its time-out and retries from the configuration (kHttpDefaults).
+  // CPLHTTPFetch takes its time-out and retries from the configuration (kHttpDefaults). Past the
+  // service cache (service_fetch.h): readRemote keeps its own rules of what is cached.
+  const gdal::DirectFetch direct;
   std::unique_ptr<CPLHTTPResult, void (*)(CPLHTTPResult*)> result(
       CPLHTTPFetch(url.c_str(), const_cast<char**>(options)), CPLHTTPDestroyResult);
   if (!result) throw InputError(inputMessage(url, what, gdal::lastError("the request failed")));
@@ -102,7 +113,7 @@ std::string envValue(const char* key) {
 
 // A cached response: "<url>\n<body>". Empty when the file is absent, holds another URL or is
 // over `maxBytes`; a hit is touched, so the trimming keeps it (least recently used goes first).
-std::optional<std::string> cachedResponse(const std::string& file, const std::string& url, std::uint64_t maxBytes) {
+std::optional<std::string> cachedResponseFile(const std::string& file, const std::string& url, std::uint64_t maxBytes) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
   std::string first;
@@ -114,8 +125,8 @@ std::optional<std::string> cachedResponse(const std::string& file, const std::st
   return body;
 }
 
-void storeResponse(const ResponseCacheSettings& settings, const std::string& file, const std::string& url,
-                   const std::string& body) {
+void storeResponseFile(const ResponseCacheSettings& settings, const std::string& file, const std::string& url,
+                       const std::string& body) {
   if (url.size() + 1 + body.size() > settings.capBytes) return;  // would evict everything else
   std::error_code ec;
   fs::create_directories(fs::path(file).parent_path(), ec);
@@ -139,10 +150,23 @@ void storeResponse(const ResponseCacheSettings& settings, const std::string& fil
   }
   fs::rename(tmp, file, ec);
   if (ec) fs::remove(tmp, ec);
-  trimResponseCache(settings.folder, settings.capBytes);
+  trimResponseCache(cacheFoldersOf(settings), settings.capBytes);
 }
 
 }  // namespace
+
+std::optional<std::string> readCachedResponse(const ResponseCacheSettings& settings, const std::string& key,
+                                              std::uint64_t maxBytes) {
+  if (settings.folder.empty()) return std::nullopt;
+  return cachedResponseFile(responseCacheFile(settings.folder, key), key, maxBytes);
+}
+
+void writeCachedResponse(const ResponseCacheSettings& settings, const std::string& key, const std::string& body) {
+  if (settings.folder.empty()) return;
+  storeResponseFile(settings, responseCacheFile(settings.folder, key), key, body);
+}
+
+void countRemoteResponse(bool fromCache, std::uint64_t bytes) { countResponse(fromCache, bytes); }
 
 void enableRemoteReading() {
   gdal::ensureRegistered();  // sets kHttpDefaults too
@@ -165,11 +189,11 @@ ResponseCacheSettings responseCacheSettings() {
   if (const std::string off = envValue("HV_NO_CACHE"); !off.empty() && off != "0") return s;
   const std::string folder = cacheFolder();
   if (folder.empty()) return s;
-  std::uint64_t mib = kDefaultResponseCacheMiB;
+  double mib = double(kDefaultResponseCacheMiB);
   if (const std::string cap = envValue("HV_CACHE_MAX_MB"); !cap.empty()) {
     char* end = nullptr;
-    const unsigned long long v = std::strtoull(cap.c_str(), &end, 10);
-    if (end && *end == '\0' && cap.find('-') == std::string::npos && v <= (std::uint64_t(1) << 40)) {
+    const double v = std::strtod(cap.c_str(), &end);
+    if (end && *end == '\0' && end != cap.c_str() && std::isfinite(v) && v >= 0.0 && v <= double(1ull << 40)) {
       mib = v;
     } else {
       static std::once_flag warned;
@@ -179,9 +203,11 @@ ResponseCacheSettings responseCacheSettings() {
       });
     }
   }
-  if (mib == 0) return s;
+  const auto capBytes = static_cast<std::uint64_t>(std::llround(mib * double(1 << 20)));
+  if (capBytes == 0) return s;
   s.folder = folder + "/responses";
-  s.capBytes = mib << 20;
+  s.tileFolder = folder + "/gdal-wms";
+  s.capBytes = capBytes;
   return s;
 }
 
@@ -195,6 +221,10 @@ std::string responseCacheFile(const std::string& folder, const std::string& url)
 }
 
 std::uint64_t trimResponseCache(const std::string& folder, std::uint64_t capBytes) {
+  return trimResponseCache(std::vector<std::string>{folder}, capBytes);
+}
+
+std::uint64_t trimResponseCache(const std::vector<std::string>& folders, std::uint64_t capBytes) {
   struct Entry {
     fs::file_time_type time;
     std::uint64_t bytes;
@@ -202,16 +232,19 @@ std::uint64_t trimResponseCache(const std::string& folder, std::uint64_t capByte
   };
   std::vector<Entry> entries;
   std::uint64_t total = 0;
-  std::error_code ec;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
-    std::error_code e;
-    if (!it->is_regular_file(e) || it->path().filename().string().find(".tmp") != std::string::npos) continue;
-    const std::uint64_t bytes = it->file_size(e);
-    if (e) continue;
-    const fs::file_time_type time = it->last_write_time(e);
-    if (e) continue;
-    entries.push_back({time, bytes, it->path()});
-    total += bytes;
+  for (const std::string& folder : folders) {
+    std::error_code ec;
+    // Recursive: GDAL's tile cache keeps its files in sub-folders.
+    for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code e;
+      if (!it->is_regular_file(e) || it->path().filename().string().find(".tmp") != std::string::npos) continue;
+      const std::uint64_t bytes = it->file_size(e);
+      if (e) continue;
+      const fs::file_time_type time = it->last_write_time(e);
+      if (e) continue;
+      entries.push_back({time, bytes, it->path()});
+      total += bytes;
+    }
   }
   if (total <= capBytes) return total;
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.time < b.time; });
@@ -236,13 +269,13 @@ std::string readRemote(const std::string& url, std::uint64_t maxBytes, const std
         cache == RemoteCache::Yes ? responseCacheSettings() : ResponseCacheSettings{};
     if (settings.folder.empty()) return readHttp(url, maxBytes, what);
     const std::string file = responseCacheFile(settings.folder, url);
-    if (std::optional<std::string> hit = cachedResponse(file, url, maxBytes)) {
+    if (std::optional<std::string> hit = cachedResponseFile(file, url, maxBytes)) {
       log::debug(url + ": from the response cache " + file);
       countResponse(true, hit->size());
       return std::move(*hit);
     }
     std::string body = readHttp(url, maxBytes, what);
-    storeResponse(settings, file, url, body);
+    storeResponseFile(settings, file, url, body);
     return body;
   }
   if (startsWithNoCase(url, "/vsi")) return readVsi(url, maxBytes, what);

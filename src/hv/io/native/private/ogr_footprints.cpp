@@ -15,6 +15,7 @@
 
 #include "hv/io/native/footprints.h"
 #include "hv/io/native/private/gdal_init.h"
+#include "hv/io/native/private/service_fetch.h"
 
 namespace hv {
 
@@ -385,6 +386,7 @@ bool readFastCell(OGRLayer* layer, const LayerGrid& grid, const std::string& pre
     const std::optional<glm::dvec2> v = firstVertex(feature->GetGeometryRef());
     if (v ? grid.cellOf(*v) != c : !seenWithoutVertex.insert(feature->GetFID()).second) continue;
     ++owned;
+    if (gdal::ServiceProgress* progress = gdal::ServiceProgress::current()) progress->feature();
     readFeature(*feature, prefix + std::to_string(feature->GetFID()), fields, path, footprints, diag);
   }
   // A service that fails mid-way (a WFS page answered 500, a truncated response) ends the
@@ -434,6 +436,7 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
                                        const std::function<void(FootprintTile&)>& consume, Diagnostics& diag) {
   gdal::ensureRegistered();
   const gdal::QuietErrors quiet;
+  gdal::ServiceProgress progress("buildings", path);  // a line per service request (service_fetch.h)
   gdal::requireOpenable(path, "footprints", true);
   DatasetPtr ds(gdal::openVector(path));
   if (!ds)
@@ -491,15 +494,18 @@ FootprintTileSource readFootprintTiles(const std::string& path, const FootprintF
     if (fast) {
       // Each wanted tile through the layer's spatial index (readFastCell).
       std::unordered_set<GIntBig> seenWithoutVertex;
-      std::size_t owned = 0;
+      std::size_t owned = 0, k = 0;
+      const auto n = std::size_t(std::count(wanted.begin(), wanted.end(), char(1)));
       for (int c = 0; c < cells; ++c) {
         if (!wanted[std::size_t(c)]) continue;
+        progress.tile(++k, n);
         std::vector<Footprint> footprints;
         if (!readFastCell(layer, grid, frame.prefix, c, server, fields, path, footprints, seenWithoutVertex, owned,
                           diag))
           ++source.tilesFailed;
         deliver(c, footprints);
       }
+      progress.tile(0, 0);
       layer->SetSpatialFilter(nullptr);
       if (std::all_of(wanted.begin(), wanted.end(), [](char w) { return w != 0; })) {
         const GIntBig count = layer->GetFeatureCount(TRUE);
