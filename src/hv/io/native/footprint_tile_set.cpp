@@ -3,11 +3,13 @@
 #include "hv/io/native/footprints.h"
 
 #include <algorithm>
+#include <atomic>
 #include <map>
 #include <mutex>
 #include <vector>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace hv {
 
@@ -17,6 +19,26 @@ BuildingTileData extrudeFootprintTile(const std::vector<Footprint>& footprints, 
   out.mesh = buildLod1(footprints, dtm, diag);
   out.validity = footprintValidity(footprints, fields.validFrom.value_or("valid_from"),
                                    fields.validTo.value_or("valid_to"), path, diag);
+  return out;
+}
+
+std::vector<BuildingTileData> extrudeFootprintTiles(const std::vector<std::vector<Footprint>>& tiles,
+                                                    const Heightfield* dtm, const FootprintFields& fields,
+                                                    const std::string& path, Diagnostics& diag, int threads) {
+  std::vector<BuildingTileData> out(tiles.size());
+  std::vector<Diagnostics> diags(tiles.size());
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t t = next++; t < tiles.size(); t = next++)
+      out[t] = extrudeFootprintTile(tiles[t], dtm, fields, path, diags[t]);
+  };
+  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  const std::size_t helpers = std::min(std::size_t(threads), tiles.size()) - (tiles.empty() ? 0 : 1);
+  std::vector<std::thread> pool;
+  for (std::size_t i = 0; i < helpers; ++i) pool.emplace_back(work);
+  work();  // this thread takes its share
+  for (std::thread& t : pool) t.join();
+  for (const Diagnostics& d : diags) diag.merge(d);
   return out;
 }
 

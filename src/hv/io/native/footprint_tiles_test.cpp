@@ -391,5 +391,39 @@ TEST_F(FootprintTiles, ReaderKeptOpenReadsEachTileAsAReadOfThatTileAlone) {
   }
 }
 
+// The load's tiles extruded on several threads at once: the same meshes (bit for bit), dates and
+// warnings, in the same order, as extruding them one after the other.
+TEST_F(FootprintTiles, ExtrudedOnSeveralThreadsAsOneAfterTheOther) {
+  const std::vector<Building> buildings = blockOfBuildings();
+  const std::string path = write("GPKG", "threads.gpkg", buildings);
+  FootprintTileOptions options;
+  options.tileSize = 50.0;
+  const TiledRead tiled = readTiles(path, options);
+  ASSERT_GT(tiled.tiles.size(), 4u);
+  std::vector<std::vector<Footprint>> footprints;
+  for (const FootprintTile& t : tiled.tiles) footprints.push_back(t.footprints);
+  Diagnostics sequentialDiag;
+  std::vector<BuildingTileData> sequential;
+  for (const auto& f : footprints)
+    sequential.push_back(extrudeFootprintTile(f, nullptr, FootprintFields{}, path, sequentialDiag));
+  ASSERT_FALSE(sequentialDiag.warnings.empty());  // "base set to 0": one a footprint, in order
+  for (int threads : {1, 3, 0}) {
+    Diagnostics diag;
+    const std::vector<BuildingTileData> parallel =
+        extrudeFootprintTiles(footprints, nullptr, FootprintFields{}, path, diag, threads);
+    ASSERT_EQ(parallel.size(), sequential.size()) << threads;
+    for (std::size_t t = 0; t < parallel.size(); ++t) {
+      EXPECT_EQ(parallel[t].mesh.positions, sequential[t].mesh.positions) << "tile " << t << ", " << threads;
+      EXPECT_EQ(parallel[t].mesh.triangles, sequential[t].mesh.triangles) << "tile " << t << ", " << threads;
+      EXPECT_EQ(parallel[t].mesh.triangleTags, sequential[t].mesh.triangleTags) << "tile " << t;
+      EXPECT_EQ(parallel[t].validity, sequential[t].validity) << "tile " << t;
+    }
+    EXPECT_EQ(diag.warnings, sequentialDiag.warnings) << threads;
+    EXPECT_EQ(diag.errors, sequentialDiag.errors) << threads;
+  }
+  Diagnostics none;
+  EXPECT_TRUE(extrudeFootprintTiles({}, nullptr, FootprintFields{}, path, none).empty());
+}
+
 }  // namespace
 }  // namespace hv

@@ -124,6 +124,14 @@ class FootprintTileReader {
 BuildingTileData extrudeFootprintTile(const std::vector<Footprint>& footprints, const Heightfield* dtm,
                                       const FootprintFields& fields, const std::string& path, Diagnostics& diag);
 
+// extrudeFootprintTile for many tiles at once, on up to `threads` threads (0: the machine's
+// cores): the same meshes, dates and warnings as extruding them one after the other in their
+// order (each tile's warnings go to `diag` in the tiles' order). The scene loader's tiles read at
+// load: the extrusion is most of their cost, the reading through one dataset stays sequential.
+std::vector<BuildingTileData> extrudeFootprintTiles(const std::vector<std::vector<Footprint>>& tiles,
+                                                    const Heightfield* dtm, const FootprintFields& fields,
+                                                    const std::string& path, Diagnostics& diag, int threads = 0);
+
 // The buildings of `path` as tiles read on demand (docs/design.md, "Building streaming"): the grid
 // of readFootprintTiles (about options.perTile footprints a tile; `options.wanted` is not used),
 // each tile's box (its cell widened by a cell on each side: buildings crossing its borders) with

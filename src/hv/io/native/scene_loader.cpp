@@ -578,21 +578,31 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfiel
     };
   }
   Scene::BuildingTilesInfo& info = scene.buildingTilesInfo;
-  std::uint32_t delivered = 0;  // tiles holding buildings
+  // Read through the one dataset in tile order, then extruded on every core (most of the cost) and
+  // appended in tile order: the same scene as extruding each tile as it is read.
+  std::vector<std::size_t> indices;
+  std::vector<std::vector<Footprint>> footprints;
   const FootprintTileSource source = readFootprintTiles(
       b.path, b.fields, b.georef, options,
       [&](FootprintTile& tile) {
-        const std::uint32_t first = std::uint32_t(scene.buildingValidity.size());
-        BuildingTileData data =
-            extrudeFootprintTile(tile.footprints, dtm.empty() ? nullptr : &dtm, b.fields, b.path, diag);
-        if (!scene.photos.empty()) (*read)[std::uint32_t(tile.index)] = data;
-        for (std::uint32_t& tag : data.mesh.triangleTags) tag += first;
-        scene.buildings.append(data.mesh);
-        scene.buildingValidity.insert(scene.buildingValidity.end(), data.validity.begin(), data.validity.end());
-        scene.tileOfBuilding.insert(scene.tileOfBuilding.end(), data.validity.size(), delivered);
-        ++delivered;
+        indices.push_back(tile.index);
+        footprints.push_back(std::move(tile.footprints));
       },
       diag);
+  std::vector<BuildingTileData> extruded =
+      extrudeFootprintTiles(footprints, dtm.empty() ? nullptr : &dtm, b.fields, b.path, diag);
+  footprints.clear();
+  std::uint32_t delivered = 0;  // tiles holding buildings
+  for (std::size_t t = 0; t < extruded.size(); ++t) {
+    BuildingTileData& data = extruded[t];
+    const std::uint32_t first = std::uint32_t(scene.buildingValidity.size());
+    if (!scene.photos.empty()) (*read)[std::uint32_t(indices[t])] = data;
+    for (std::uint32_t& tag : data.mesh.triangleTags) tag += first;
+    scene.buildings.append(data.mesh);
+    scene.buildingValidity.insert(scene.buildingValidity.end(), data.validity.begin(), data.validity.end());
+    scene.tileOfBuilding.insert(scene.tileOfBuilding.end(), data.validity.size(), delivered);
+    ++delivered;
+  }
   if (!source.sourceCrs.empty())
     scene.sourceCrs.insert(scene.sourceCrs.begin() + std::ptrdiff_t(std::min(b.sourceCrsAt, scene.sourceCrs.size())),
                            Scene::SourceCrs{"buildings", source.sourceCrs, !scene.crs.empty()});
