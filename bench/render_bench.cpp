@@ -18,6 +18,7 @@
 #include "hv/image/image.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/render/gl/shade_config.h"
 #include "hv/render/renderer.h"
 #include "hv/util/diagnostics.h"
 
@@ -332,14 +333,32 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
   struct Option {
     const char* name;
     void (*apply)(hv::ibr::BlendSettings&);
+    // The one generic shade program of every configuration (before per-configuration programs,
+    // render/gl/shade_config.h): the papers' blend as it was measured against SIBR's ULR.
+    bool generic = false;
   };
   const Option options[] = {
       {"papers' blend (distance, no feather, level 0)", [](hv::ibr::BlendSettings&) {}},
+      {"papers' blend, generic program", [](hv::ibr::BlendSettings&) {}, true},
+      {"weights geometry, generic program",
+       [](hv::ibr::BlendSettings& b) { b.weighting = hv::ibr::Weighting::Geometry; }, true},
       {"weights geometry", [](hv::ibr::BlendSettings& b) { b.weighting = hv::ibr::Weighting::Geometry; }},
       // SIBR's unstructured lumigraph renderer blends the best 4 per pixel.
       {"weights geometry, geometry-k 4", [](hv::ibr::BlendSettings& b) {
          b.weighting = hv::ibr::Weighting::Geometry;
          b.geometryK = 4;
+       }},
+      // The better-quality setting on real photographs (docs/evaluation.md, Sceaux).
+      {"weights geometry, mipmaps", [](hv::ibr::BlendSettings& b) {
+         b.weighting = hv::ibr::Weighting::Geometry;
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
+       }},
+      {"weights geometry, geometry-k 4, mipmaps", [](hv::ibr::BlendSettings& b) {
+         b.weighting = hv::ibr::Weighting::Geometry;
+         b.geometryK = 4;
+         b.mipmaps = true;
+         b.anisotropy = 1.0;
        }},
       {"feather 16 px", [](hv::ibr::BlendSettings& b) { b.featherPx = 16.0; }},
       // Anisotropic filtering is left out: llvmpipe's takes minutes per frame (docs/performance.md).
@@ -381,6 +400,7 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
   for (const Option& o : options) {
     renderer.settings().blend = papers;
     o.apply(renderer.settings().blend);
+    hv::render::gl::setShadeSpecialisation(!o.generic);
     for (int i = 0; i < kWarmupFrames; ++i) renderer.render(view);
     std::vector<Timing> t;
     for (int i = 0; i < kFrameRepeats; ++i) t.push_back(measure([&] { renderer.render(view); }));
@@ -389,6 +409,7 @@ int benchQuality(const std::string& scenePath, const std::string& viewsPath, con
     std::printf("  %-46s %7zu %11.1f %8.2fx %9.1f\n", o.name, renderer.lastPlan().images.size(), m.wall,
                 m.wall / base.wall, m.cpu);
   }
+  hv::render::gl::setShadeSpecialisation(true);
   rule();
   return diag.ok() ? 0 : 1;
 }

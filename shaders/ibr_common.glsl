@@ -88,14 +88,23 @@ vec4 hv_correctColour(HvImage im, vec4 texel) {
 // Lens distortion, twin of hv::LensDistortion::distort (its comment in camera.h has the models):
 // normalised x = (p - centre) / scale, the fish-eye angle step, radial, tangential and affine terms,
 // p_d = p + scale * (x_d - x). Returns false outside the domain |x|^2 <= r2max.
+// HV_CONF_LENS (the shade pass's per-configuration programs, src/hv/render/gl/shade_config.h): 0
+// no photograph of the frame has a lens model, 1 none is a fish-eye, 2 some are.
+#ifdef HV_CONF_LENS
+#define HV_LENS_ANY (HV_CONF_LENS >= 1)
+#define HV_LENS_FISHEYE (HV_CONF_LENS == 2)
+#else
+#define HV_LENS_ANY true
+#define HV_LENS_FISHEYE true
+#endif
 bool hv_distort(HvImage im, vec2 p, out vec2 pd) {
   pd = p;
-  if (im.r2max < 0.0) return true;
+  if (!HV_LENS_ANY || im.r2max < 0.0) return true;
   vec2 x = (p - im.dc) / im.dscale;
   float R2 = dot(x, x);
   if (R2 > im.r2max) return false;
   vec2 a = x;
-  if (im.fisheye && R2 > 0.0) {
+  if (HV_LENS_FISHEYE && im.fisheye && R2 > 0.0) {
     float R = sqrt(R2);
     a = x * (atan(R) / R);
   }

@@ -79,6 +79,25 @@ uniform vec3 u_orthoU;
 uniform vec3 u_orthoV;
 #endif
 
+// Per-configuration programs (src/hv/render/gl/shade_config.h): with HV_CONFIG the options above
+// are compile-time constants (HV_CONF_*), so the code of what is off is not in the program (on
+// llvmpipe both sides of an `if` run, docs/performance.md), and the geometry weights' per-pixel
+// lists have constant sizes (HV_CONF_K, HV_CONF_RANK) and constant indices. Without HV_CONFIG
+// (the generic program, the naive binding) each is read from its uniform.
+#ifdef HV_CONFIG
+#define HV_GEOMETRY (HV_CONF_GEOMETRY == 1)
+#define HV_CONSENSUS_ON (HV_CONF_CONSENSUS == 1)
+#define HV_MIPMAPS HV_CONF_MIPMAPS
+#define HV_FEATHER_ON (HV_CONF_FEATHER == 1)
+#define HV_LAYERS_ON (HV_CONF_LAYERS == 1)
+#else
+#define HV_GEOMETRY (u_weighting == 1 && u_method != 1)
+#define HV_CONSENSUS_ON (u_consensus > 0.0 && u_method != 1)
+#define HV_MIPMAPS u_mipmaps
+#define HV_FEATHER_ON (u_feather > 0.0)
+#define HV_LAYERS_ON true
+#endif
+
 out vec4 o_color;
 
 // hv::ibr::kMaxGeometryK + 1: a pixel's best K and the K+1-th.
@@ -132,7 +151,7 @@ bool hv_appliesAt(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, ou
   dt = hv_depthCoord(im, p);
   uv = (pd - im.uvOffset) * im.uvScale;
   // A sub-image textures the points whose projection falls in its window (uv in [0, 1]^2).
-  return im.layer <= 0.0 || (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0))));
+  return !HV_LAYERS_ON || im.layer <= 0.0 || (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0))));
 }
 
 bool hv_applies(HvImage im, vec3 P, vec2 existed, out vec2 dt, out vec2 uv, out float z) {
@@ -277,9 +296,9 @@ vec2 hv_uvAt(HvImage im, vec3 Q) {
 // surface seen obliquely, the street, across its whole width).
 vec4 hv_samplePhoto(HvImage im, vec2 uv, vec3 P, vec3 dPdx, vec3 dPdy) {
   vec3 at = vec3(uv, im.slice);
-  if (u_mipmaps == 0) return textureLod(u_images, at, 0.0);
+  if (HV_MIPMAPS == 0) return textureLod(u_images, at, 0.0);
   vec2 gx = hv_uvAt(im, P + dPdx) - uv, gy = hv_uvAt(im, P + dPdy) - uv;
-  if (u_mipmaps == 2) return textureGrad(u_images, at, gx, gy);
+  if (HV_MIPMAPS == 2) return textureGrad(u_images, at, gx, gy);
   vec2 size = vec2(textureSize(u_images, 0).xy);
   vec2 jx = gx * size, jy = gy * size;
   float area = abs(jx.x * jy.y - jx.y * jy.x);
@@ -289,19 +308,116 @@ vec4 hv_samplePhoto(HvImage im, vec2 uv, vec3 P, vec3 dPdx, vec3 dPdy) {
 // The feather factor of image `im` at ideal pixel p, distorted pd, texture uv: twin of
 // hv::ibr::featherFactor(borderDistance) times maskFeather at featherLevel.
 float hv_feather(HvImage im, vec2 p, vec2 pd, vec2 uv) {
-  if (u_feather <= 0.0) return 1.0;
+  if (!HV_FEATHER_ON) return 1.0;
   float b = min(min(pd.x, pd.y), min(im.size.x - pd.x, im.size.y - pd.y));
   if (im.r2max >= 0.0 && im.r2max < 1e29) {
     vec2 x = (p - im.dc) / im.dscale;
     b = min(b, (sqrt(im.r2max) - length(x)) * min(im.dscale.x, im.dscale.y));
   }
   float f = smoothstep(0.0, u_feather, b);
-  if (u_maskFeather && im.layer <= 0.0 && f > 0.0) {  // a sub-image's alpha is not a mask
+  if (u_maskFeather && (!HV_LAYERS_ON || im.layer <= 0.0) && f > 0.0) {  // a sub-image's alpha is not a mask
     float level = max(0.0, log2(max(u_feather * im.uvScale.x * u_sliceWidth, 1.0)));
     f *= clamp(2.0 * textureLod(u_images, vec3(uv, im.slice), level).a - 1.0, 0.0, 1.0);
   }
   return f;
 }
+
+#if defined(HV_CONFIG) && HV_CONF_GEOMETRY == 1 && HV_CONF_CONSENSUS == 0
+#define HV_FAST_GEOMETRY
+// The geometry weights in a per-configuration program: the same ranking, test chain and weights
+// as the generic loop in main() (docs/design.md), with K and the ranking's length compile-time
+// constants, so both per-pixel lists sit at constant indices. The ranking inserts each candidate
+// by a chain of compare-and-swaps over its HV_CONF_RANK entries (ties in list order: a later equal
+// penalty goes after), the test loop takes the head and shifts the rest down, and the passing
+// images enter the best K + 1 at its end, the earlier ones shifting down, so after the loop they
+// are in ascending penalty from index HV_CAP - nBest on.
+#define HV_CAP (HV_CONF_K + 1)
+void hv_geometryBlend(int n, int row, vec3 P, vec3 normal, vec2 existed, vec3 dPdx, vec3 dPdy, inout HvBlend blend) {
+  float rankP[HV_CONF_RANK];
+  int rankI[HV_CONF_RANK];
+  for (int j = 0; j < HV_CONF_RANK; ++j) {
+    rankP[j] = 3.0e38;
+    rankI[j] = -1;  // no candidate
+  }
+  for (int k = 0; k < n; ++k) {
+    int i = u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
+    // C and the focal length: t0.w, t1.w, t2.w and t8.z (hv_fetchImage).
+    vec3 C = vec3(texelFetch(u_params, ivec2(0, i), 0).w, texelFetch(u_params, ivec2(1, i), 0).w,
+                  texelFetch(u_params, ivec2(2, i), 0).w);
+    float pen = hv_penalty(C, texelFetch(u_params, ivec2(8, i), 0).z, P, normal);
+    for (int j = 0; j < HV_CONF_RANK; ++j) {
+      bool before = pen < rankP[j];
+      float tp = rankP[j];
+      int ti = rankI[j];
+      rankP[j] = before ? pen : tp;
+      rankI[j] = before ? i : ti;
+      pen = before ? tp : pen;
+      i = before ? ti : i;
+    }
+  }
+  int nRank = min(n, HV_CONF_RANK);
+  float bestP[HV_CAP];
+  vec4 bestT[HV_CAP];
+  float bestF[HV_CAP];
+  int bestI[HV_CAP];
+  for (int j = 0; j < HV_CAP; ++j) {
+    bestP[j] = 0.0;
+    bestT[j] = vec4(0.0);
+    bestF[j] = 0.0;
+    bestI[j] = -1;
+  }
+  int nBest = 0;
+  float doneGroup = 0.0;
+  for (int k = 0; k < nRank; ++k) {
+    int i = rankI[0];
+    float pen = rankP[0];
+    if (i < 0) break;  // fewer ranked than listed (a penalty that is not a number)
+    for (int j = 0; j < HV_CONF_RANK - 1; ++j) {
+      rankI[j] = rankI[j + 1];
+      rankP[j] = rankP[j + 1];
+    }
+    HvImage im = hv_fetchImage(i);
+    if (HV_LAYERS_ON && im.group > 0.0 && im.group == doneGroup) continue;
+    vec2 dt, uv, p, pd;
+    float z;
+    if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
+    if (HV_LAYERS_ON && im.layer > 0.0) {
+      if (!hv_onPeeledSurface(im, z, dt, P)) continue;
+    } else if (u_occlusion &&
+               hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack)) {
+      continue;
+    }
+    vec4 texel = hv_correctColour(im, hv_samplePhoto(im, uv, P, dPdx, dPdy));
+    if (texel.a <= 0.0) continue;
+    doneGroup = im.group;
+    for (int j = 0; j < HV_CAP - 1; ++j) {
+      bestP[j] = bestP[j + 1];
+      bestT[j] = bestT[j + 1];
+      bestF[j] = bestF[j + 1];
+      bestI[j] = bestI[j + 1];
+    }
+    bestP[HV_CAP - 1] = pen;
+    bestT[HV_CAP - 1] = texel;
+    bestF[HV_CAP - 1] = hv_feather(im, p, pd, uv);
+    bestI[HV_CAP - 1] = i;
+    nBest += 1;
+    if (nBest == HV_CAP) break;
+  }
+  // w_j = (f(p_j) - f(p_K+1)) * feather_j over the best K (hv::ibr::blendWeights of the penalties).
+  float e2 = u_penaltyEpsilon * u_penaltyEpsilon;
+  bool full = nBest == HV_CAP;
+  float fNext = full ? 1.0 / (e2 + bestP[HV_CAP - 1] * bestP[HV_CAP - 1]) : 0.0;
+  int first = HV_CAP - nBest, last = full ? HV_CAP - 2 : HV_CAP - 1;
+  for (int j = 0; j < HV_CAP; ++j) {
+    float w = max(0.0, 1.0 / (e2 + bestP[j] * bestP[j]) - fNext) * bestF[j];
+    if (j < first || j > last || w <= 0.0) continue;
+    blend.sum += w * bestT[j].rgb;
+    blend.alpha += w * bestT[j].a;
+    blend.count += 1;
+    if (bestI[j] == u_debugImage) blend.mine = w * bestT[j].a;
+  }
+}
+#endif
 #endif
 
 void main() {
@@ -360,13 +476,16 @@ void main() {
   }
   // Mipmaps: the view pixel's neighbours on the surface plane.
   vec3 dPdx = vec3(0.0), dPdy = vec3(0.0);
-  if (u_mipmaps != 0) {
+  if (HV_MIPMAPS != 0) {
     dPdx = hv_surfaceStep(P, normal, u_viewDirFromPix * vec3(pIdeal + vec2(1.0, 0.0), 1.0));
     dPdy = hv_surfaceStep(P, normal, u_viewDirFromPix * vec3(pIdeal + vec2(0.0, 1.0), 1.0));
   }
+#ifdef HV_FAST_GEOMETRY
+  hv_geometryBlend(n, row, P, normal, existed, dPdx, dPdy, blend);
+#else
   // Geometry weights: the pixel's best K + 1 by penalty, ascending (ties: list order), with
   // their texels, feather factors and indices.
-  bool geometry = u_weighting == 1 && u_method != 1;
+  bool geometry = HV_GEOMETRY;
   int cap = clamp(u_geometryK, 1, HV_MAX_BEST - 1) + 1;
   float bestP[HV_MAX_BEST];
   vec4 bestT[HV_MAX_BEST];
@@ -374,7 +493,7 @@ void main() {
   int bestI[HV_MAX_BEST];
   int nBest = 0;
   // The transient filter: the pixel's samples (texel, f or w, feather, index) kept for reweighting.
-  bool consensus = u_consensus > 0.0 && u_method != 1;
+  bool consensus = HV_CONSENSUS_ON;
   vec4 sampT[HV_MAX_CONSENSUS];
   float sampW[HV_MAX_CONSENSUS];
   float sampF[HV_MAX_CONSENSUS];
@@ -417,11 +536,11 @@ void main() {
     int i = geometry ? rankI[k] : u_culling ? int(texelFetch(u_tileLists, ivec2(k + 1, row), 0).r) : k;
     float pen = geometry ? rankP[k] : 0.0;
     HvImage im = hv_fetchImage(i);
-    if (im.group > 0.0 && im.group == doneGroup) continue;
+    if (HV_LAYERS_ON && im.group > 0.0 && im.group == doneGroup) continue;
     vec2 dt, uv, p, pd;
     float z;
     if (!hv_appliesAt(im, P, existed, dt, uv, p, pd, z)) continue;
-    if (im.layer > 0.0) {
+    if (HV_LAYERS_ON && im.layer > 0.0) {
       if (!hv_onPeeledSurface(im, z, dt, P)) continue;
     } else if (u_occlusion &&
                hv_shadowed(im, z, texture(u_depthMaps, vec3(dt, im.slice)).r, normal, P, u_meshPushBack)) {
@@ -498,7 +617,8 @@ void main() {
       if (bestI[j] == u_debugImage) blend.mine = w * bestT[j].a;
     }
   }
-#endif
+#endif  // HV_FAST_GEOMETRY
+#endif  // HV_NAIVE
   vec3 sum = blend.sum;
   float alpha = blend.alpha;
   int count = blend.count;

@@ -76,7 +76,7 @@ Image16 GlBackend::depthMapView(const Frame& f, ViewPassStats& stats) {
         values.at(x, y, 0) = std::uint16_t(enc.at(x, y, 0) + 256 * enc.at(x, y, 1));
         inside[size_t(y) * w + x] = enc.at(x, y, 2) > 127;
       }
-    shadeProgram_.program.use();
+    shade_->program.use();
   }
   int lo = 65535, hi = 0;
   for (size_t i = 0; i < inside.size(); ++i)

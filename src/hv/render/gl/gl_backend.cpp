@@ -275,7 +275,7 @@ void GlBackend::uploadDepthMap(int slot, const std::vector<float>& depth) {
 void GlBackend::finishDepthMaps() { glFinish(); }
 
 Image8 GlBackend::shade(ShadeMode mode, int w, int h, bool readBack) {
-  glUniform1i(shadeProgram_.mode, mode);
+  glUniform1i(shade_->mode, mode);
   gpu::drawFullscreen(emptyVao_);
   if (!readBack) return {};
   return readColour(w, h);
@@ -298,7 +298,8 @@ RenderOutput GlBackend::runViewPasses(const Frame& f, ViewPassStats& stats) {
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   gpu::checkFramebuffer("view colour");
   glViewport(0, 0, view.width, view.height);
-  shadeProgram_.program.use();
+  selectShadeProgram(f, stats);
+  shade_->program.use();
   bindShadeInputs(f);
 
   RenderOutput out;

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -106,6 +107,8 @@ class GlBackend final : public Backend {
   void uploadParams(const Frame& f);
   void uploadIdealLookup(const Camera& view);
   void bindShadeInputs(const Frame& f);
+  // Picks (links on first use) the frame's shade program into shade_.
+  void selectShadeProgram(const Frame& f, const ViewPassStats& stats);
   Image8 shade(ShadeMode mode, int w, int h, bool readBack);
   // debug_pass.cpp
   Image16 debugViewPass(const Frame& f, ViewPassStats& stats);
@@ -121,7 +124,11 @@ class GlBackend final : public Backend {
   SlotLayout layout_;
 
   DepthProgram depthProgram_, viewDepthProgram_;
+  // The generic shade program (and the naive binding's); the per-configuration ones by key
+  // (gl/shade_config.h), linked when a frame first needs one; shade_ the frame's.
   ShadeProgram shadeProgram_;
+  std::unordered_map<std::string, ShadeProgram> shadePrograms_;
+  const ShadeProgram* shade_ = &shadeProgram_;
   TileDepthProgram tileDepthProgram_;
   gpu::VertexArray meshVao_, emptyVao_;
   gpu::Buffer vertexBuffer_, indexBuffer_;

@@ -68,8 +68,8 @@ DepthProgram::DepthProgram(const ProgramSource& src) : program(linkProgram(src))
   center = u.required("u_center");
 }
 
-ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
-  std::vector<std::string> extra;
+ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount, const std::vector<std::string>& config) {
+  std::vector<std::string> extra = config;
   if (naiveCount > 0) extra = {"HV_NAIVE", "HV_NAIVE_COUNT=" + std::to_string(naiveCount)};
   program = linkProgram(src, extra);
   const gpu::UniformResolver u(program, programName(src, extra));
@@ -108,23 +108,28 @@ ShadeProgram::ShadeProgram(const ProgramSource& src, int naiveCount) {
   viewCenter = u.required("u_viewCenter");
   viewDirFromPix = u.required("u_viewDirFromPix");
   imageCount = u.required("u_imageCount");
-  method = u.required("u_method");
-  region = u.required("u_region");
-  blendK = u.required("u_blendK");
+  // The geometry weights' per-configuration program has no distance weighting (region, K) and no
+  // nearest method.
+  auto blendUniform = [&](const char* name) { return config.empty() ? u.required(name) : u.optional(name); };
+  method = blendUniform("u_method");
+  region = blendUniform("u_region");
+  blendK = blendUniform("u_blendK");
   occlusion = u.required("u_occlusion");
   debugImage = u.required("u_debugImage");
   background = u.required("u_background");
   mode = u.required("u_mode");
-  weighting = tiles("u_weighting");
-  resolutionWeight = tiles("u_resolutionWeight");
-  penaltyEpsilon = tiles("u_penaltyEpsilon");
-  geometryK = tiles("u_geometryK");
-  viewFocal = tiles("u_viewFocal");
-  feather = tiles("u_feather");
-  maskFeather = tiles("u_maskFeather");
-  consensus = tiles("u_consensus");
-  mipmaps = tiles("u_mipmaps");
-  sliceWidth = tiles("u_sliceWidth");
+  // A per-configuration program leaves out the uniforms of the options that are off.
+  auto quality = [&](const char* name) { return naive || !config.empty() ? u.optional(name) : u.required(name); };
+  weighting = quality("u_weighting");
+  resolutionWeight = quality("u_resolutionWeight");
+  penaltyEpsilon = quality("u_penaltyEpsilon");
+  geometryK = quality("u_geometryK");
+  viewFocal = quality("u_viewFocal");
+  feather = quality("u_feather");
+  maskFeather = quality("u_maskFeather");
+  consensus = quality("u_consensus");
+  mipmaps = quality("u_mipmaps");
+  sliceWidth = quality("u_sliceWidth");
   shading = u.required("u_shading");
   sky = u.required("u_sky");
   up = u.required("u_up");

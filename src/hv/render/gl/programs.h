@@ -62,8 +62,9 @@ struct ShadeProgram {
   GLint weighting = -1, resolutionWeight = -1, penaltyEpsilon = -1, viewFocal = -1, feather = -1, maskFeather = -1,
         mipmaps = -1, sliceWidth = -1, consensus = -1, geometryK = -1;
   ShadeProgram() = default;
-  // naiveCount > 0: the naive binding with that many images.
-  explicit ShadeProgram(const ProgramSource& src, int naiveCount = 0);
+  // naiveCount > 0: the naive binding with that many images. `config`: the defines of a
+  // per-configuration program (gl/shade_config.h), whose options' uniforms may be compiled out.
+  explicit ShadeProgram(const ProgramSource& src, int naiveCount = 0, const std::vector<std::string>& config = {});
 };
 
 // fullscreen.vert + tile_depth.frag: each tile's depth range.

@@ -5,6 +5,7 @@
 #include "hv/render/gl/gl_backend.h"
 
 #include "hv/gpu/textures.h"
+#include "hv/render/gl/shade_config.h"
 #include "hv/render/untextured.h"
 
 #include <algorithm>
@@ -43,8 +44,19 @@ void GlBackend::uploadIdealLookup(const Camera& view) {
   lookupTexture_ = gpu::makeFloatData(view.width, view.height, lookup.data());
 }
 
+void GlBackend::selectShadeProgram(const Frame& f, const ViewPassStats& stats) {
+  shade_ = &shadeProgram_;
+  if (naive() || !shadeSpecialisation()) return;
+  const int candidates = cullingThisFrame_ && stats.tileListsBuilt ? stats.maxTileList : int(f.params.size());
+  const std::vector<std::string> defines = shadeConfigDefines(f, candidates, limits_.maxAnisotropy);
+  const std::string key = shadeConfigKey(defines);
+  auto it = shadePrograms_.find(key);
+  if (it == shadePrograms_.end()) it = shadePrograms_.emplace(key, ShadeProgram(programs().shade, 0, defines)).first;
+  shade_ = &it->second;
+}
+
 void GlBackend::bindShadeInputs(const Frame& f) {
-  const ShadeProgram& p = shadeProgram_;
+  const ShadeProgram& p = *shade_;
   const Camera& view = f.view;
   const hv::PinholeFrustum& vf = f.rect.frustum;
   const bool distorted = f.rect.distorted;
