@@ -45,6 +45,21 @@ TEST(GeoJsonCameras, CamerasPropertiesAndNextLink) {
   EXPECT_EQ(b.colour.offset, glm::dvec3(0.5, 0, 0));
 }
 
+// MapServer's WFS writes a NULL text field as "": no mask, no lens distortion.
+TEST(GeoJsonCameras, EmptyTextIsNoValueAsMapServerWritesNull) {
+  const std::string text = R"({"type": "FeatureCollection", "features": [)" +
+                           feature("cameras.1", "p1", R"(, "image": "images/p1.png", "mask": "",
+                                   "distortion_model": "", "distortion": "", "date": "")") +
+                           "]}";
+  Diagnostics diag;
+  const GeoJsonCameraPage page = parseGeoJsonCameras(text, "http://h/wfs", diag);
+  EXPECT_TRUE(diag.errors.empty());
+  ASSERT_EQ(page.photos.size(), 1u);
+  EXPECT_EQ(page.photos[0].maskPath, "");
+  EXPECT_FALSE(page.photos[0].camera.distortion.has_value());
+  EXPECT_EQ(page.photos[0].date, "");
+}
+
 TEST(GeoJsonCameras, BrokenFeaturesAreNamedWithTheUrlAndLeftOut) {
   const std::string text =
       R"({"type": "FeatureCollection", "features": [)" +
