@@ -85,7 +85,7 @@ try {
         `wfs-cameras: ${s ? s.cameraFeatures : 0} cameras from the WFS in ${s ? s.cameraPages : 0} page(s), ` +
         `${wfs.state.status.photos} photographs (${photos} expected)`);
   check(wfs.requests.some((u) => /REQUEST=GetFeature&TYPENAMES=ms%3Acameras/.test(u)) &&
-        !wfs.requests.some((u) => /cameras[^/]*\.json$/.test(u)),
+        !wfs.requests.some((u) => /\/cameras[^/]*\.json$/.test(u)),
         'wfs-cameras: the page asked the WFS for the cameras (and fetched no cameras file)');
   if (args['iiif-file']) {
     const iiif = await open(args['iiif-file'], 'iiif-file');
@@ -110,7 +110,7 @@ try {
   check(bad.state.services && bad.state.services.features === BUILDINGS, `malformed-layer: the buildings still read (${BUILDINGS})`);
   const missing = await open(args.missing, 'missing-photograph', { expectErrors: true });
   console.log('missing-photograph: ' + missing.errors.join(' | '));
-  check(missing.errors.length >= 1 && missing.errors.every((e) => /\/files\/web\/images\/missing\.jpg: HTTP 404/.test(e)),
+  check(missing.state.errors.length === 1 && /^photograph \S+: \S*\/files\/web\/images\/missing\.jpg: HTTP 404/.test(missing.state.errors[0]),
         'missing-photograph: one error, naming the URL and the status');
   check(missing.state.status.arrived === photos - 1, `missing-photograph: the others arrived (${missing.state.status.arrived} of ${photos - 1})`);
 } catch (e) {
