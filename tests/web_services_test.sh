@@ -32,6 +32,23 @@ t0=$SECONDS
 "$HV" web-export "$city/scene.json" "$city/web" --views "$city/views.json" >"$DIR/export.out" 2>&1 ||
   { fail "web-export: $(tail -3 "$DIR/export.out")"; exit 1; }
 echo "demo and export: $((SECONDS - t0)) s"
+# Cameras and photographs from services (tests/web/web_services_cameras_test.mjs): the export's
+# cameras as a point layer that tools/services.sh serves by WFS (ms:cameras; the image paths
+# relative to the city folder, i.e. web/images/…), and the photographs as tiled pyramidal TIFFs
+# that iipsrv serves (IIIF), when it is installed.
+printf '{"crs": "EPSG:2154", "cameras": {"path": "web/cameras.json"}}\n' >"$city/cameras-web.json"
+"$HV" cameras export "$city/cameras-web.json" --ogr "$city/cameras.gpkg" >"$DIR/cameras-export.out" 2>&1 ||
+  fail "cameras export --ogr: $(tail -3 "$DIR/cameras-export.out")"
+iiif=0
+if [[ -x ${HV_IIPSRV:-/usr/lib/iipimage-server/iipsrv.fcgi} ]]; then
+  iiif=1
+  mkdir -p "$city/iiif"
+  for png in "$city"/images/*.png; do
+    python3 tests/services/pyramid_tiff.py "$png" "$city/iiif/$(basename "$png" .png).tif" &
+    while (($(jobs -rp | wc -l) >= 2)); do sleep 0.1; done
+  done
+  wait
+fi
 stack_up
 state=$(sed -n 's/.*(state: \(.*\))$/\1/p' "$DIR/up.out" | head -1)
 
@@ -61,6 +78,84 @@ cat "$DIR/node.out"
 log=$state/access.log
 check "lighttpd's log: WFS GetFeature as GeoJSON, paged" grep -q 'REQUEST=GetFeature.*OUTPUTFORMAT=geojson.*COUNT=1000&STARTINDEX=0' "$log"
 check "lighttpd's log: WCS GetCoverage as text/plain" grep -q 'REQUEST=GetCoverage&FORMAT=text%2Fplain' "$log"
+
+# --- cameras from the WFS layer, photographs from IIIF (tests/web/web_services_cameras_test.mjs)
+python3 - "$city" "$URL" "$iiif" <<'PY'
+import json, sqlite3, struct, sys
+city, url, iiif = sys.argv[1], sys.argv[2], sys.argv[3] == "1"
+web = city + "/web"
+base = {"format": "histoview-services", "version": 1, "crs": "EPSG:2154",
+        "terrain": {"path": f"WCS:{url}/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm"},
+        "buildings": {"path": f"WFS:{url}/mapserv?map=city&TYPENAME=ms:buildings", "height": "height"}}
+def describe(path, files, cameras):
+    json.dump(dict(base, files=files, cameras={"path": cameras}), open(path, "w"))
+wfs = f"WFS:{url}/mapserv?map=city&TYPENAME=ms:cameras"
+# Beside the city's files: the layer's image paths (web/images/…) are relative to it.
+describe(city + "/services-wfs-cameras.json", "web/scene_web.json", wfs)
+# A malformed camera layer: a static file answers the GetFeature (lighttpd ignores the query).
+open(city + "/malformed-cameras.json", "w").write('{"type": "FeatureCollection", "features": [{"type": "Feat')
+describe(city + "/services-malformed.json", "web/scene_web.json",
+         f"WFS:{url}/files/malformed-cameras.json?map=city&TYPENAME=ms:cameras")
+cams = json.load(open(web + "/cameras.json"))
+ids = [c["id"] for c in cams["cameras"]]
+if iiif:
+    # The same cameras by file with every photograph from iipsrv, and the layer likewise (its
+    # image column rewritten: MapServer reads the GeoPackage at each request).
+    for c in cams["cameras"]:
+        c["image"] = f"{url}/iiif?IIIF={c['id']}.tif/info.json"
+    json.dump(cams, open(web + "/cameras-iiif.json", "w"))
+    describe(web + "/services-iiif-file.json", "scene_web.json", "cameras-iiif.json")
+    db = sqlite3.connect(city + "/cameras.gpkg")
+    # The GeoPackage's R-tree triggers call SQL functions of GDAL / SpatiaLite: the few they use,
+    # for points (the geometry is not changed; they fire on any update).
+    def point(blob):
+        envelope = {0: 0, 1: 32, 2: 48, 3: 48, 4: 64}[(blob[3] >> 1) & 7]
+        wkb = blob[8 + envelope:]
+        return struct.unpack(("<" if wkb[0] == 1 else ">") + "dd", wkb[5:21])
+    db.create_function("ST_IsEmpty", 1, lambda g: 0 if g else 1)
+    for name, i in (("ST_MinX", 0), ("ST_MaxX", 0), ("ST_MinY", 1), ("ST_MaxY", 1)):
+        db.create_function(name, 1, lambda g, i=i: point(g)[i])
+    db.execute("UPDATE cameras SET image = ? || id || '.tif/info.json'", (f"{url}/iiif?IIIF=",))
+    db.commit()
+    db.close()
+# One photograph missing (HTTP 404), the others as exported.
+cams = json.load(open(web + "/cameras.json"))
+cams["cameras"][0]["image"] = f"{url}/files/web/images/missing.jpg"
+json.dump(cams, open(web + "/cameras-404.json", "w"))
+describe(web + "/services-404.json", "scene_web.json", "cameras-404.json")
+print(ids[0], len(ids))
+PY
+read -r first_id photo_count < <(python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cameras"]; print(c[0]["id"], len(c))' "$city/web/cameras.json")
+page=$URL/files/web/index.html
+args=(--files "$page?$query" --wfs "$page?scene=../services-wfs-cameras.json&$query"
+      --malformed "$page?scene=../services-malformed.json&$query" --missing "$page?scene=services-404.json&$query"
+      --photos "$photo_count" --out "$DIR")
+((iiif)) && args+=(--iiif-file "$page?scene=services-iiif-file.json&$query")
+timeout -k 5 400 node tests/web/web_services_cameras_test.mjs "${args[@]}" >"$DIR/node-cameras.out" 2>&1
+node_rc=$?
+cat "$DIR/node-cameras.out"
+((node_rc == 0)) && pass "the browser test of cameras and photographs from services (node exit code 0)" ||
+  fail "the browser test of cameras and photographs from services: exit code $node_rc"
+kill -HUP "$(cat "$state/lighttpd.pid")" 2>/dev/null; sleep 1  # lighttpd writes its buffered log out
+check "lighttpd's log: WFS GetFeature of ms:cameras as GeoJSON" \
+  grep -q 'REQUEST=GetFeature&TYPENAMES=ms%3Acameras&OUTPUTFORMAT=geojson' "$log"
+if ((iiif)); then
+  # For one photograph: its description, then its preview, then its full image (lines in order).
+  check "lighttpd's log: IIIF info.json, then the preview, then the full image ($first_id)" python3 - "$log" "$first_id" <<'PY'
+import re, sys
+lines = [l for l in open(sys.argv[1]) if f"IIIF={sys.argv[2]}.tif/" in l]
+kinds = []
+for l in lines:
+    if "/info.json" in l: kinds.append("info")
+    else:
+        m = re.search(r"/full/(\d+),/0/default\.jpg", l)
+        if m: kinds.append(int(m.group(1)))
+print("      ", kinds)
+# The page's first IIIF load: info, a width, a larger width (later loads repeat the pattern).
+ok = len(kinds) >= 3 and kinds[0] == "info" and all(isinstance(k, int) for k in kinds[1:3]) and kinds[1] < kinds[2]
+sys.exit(0 if ok else 1)
+PY
+fi
 echo "$((SECONDS - t0)) s"
 echo "$passed passed, $failed failed"
 ((failed == 0))

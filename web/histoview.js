@@ -81,6 +81,8 @@
     return bytes;
   }
   const megabytes = (n) => (n / 1048576).toFixed(1) + ' MB';
+  const photoBytesText = (b) => !b || !b.images && !b.previews ? '' : `\nphotographs ${megabytes(b.imageBytes)} (${b.images})` +
+    (b.previews ? `, previews ${megabytes(b.previewBytes)} (${b.previews})` : '');
 
   async function main() {
     if (typeof createHistoview !== 'function')
@@ -168,26 +170,19 @@
     // Photographs, nearest the start view first, a few requests in flight; each joins the
     // renderer's selection as soon as its bytes (and its mask's) are in the file system.
     const order = JSON.parse(viewer.fetchOrder());
-    let next = 0, done = 0;
+    let done = 0;
     const rel = (p) => p.startsWith(ROOT) ? p.slice(ROOT.length) : p;
-    async function worker() {
-      while (next < order.length) {
-        const i = order[next++];
-        const p = photos[i];
-        try {
-          const bytes = await fetchBytes(new URL(rel(p.image), photoBase).href);
-          put(rel(p.image), bytes);
-          if (p.mask) put(rel(p.mask), await fetchBytes(new URL(rel(p.mask), photoBase).href));
-          viewer.photoArrived(i);
-          const li = document.querySelector('#photos li[data-index="' + i + '"]');
-          if (li) { li.classList.remove('pending'); addThumbnail(li, bytes, p.id); }
-        } catch (e) {
-          showError('photograph ' + p.id + ': ' + e.message);
-        }
-        done++;
-      }
-    }
-    Promise.all(Array.from({ length: FETCHES_IN_FLIGHT }, worker)).then(() => { hv.fetched = true; });
+    // By path, by URL or from IIIF (services_cameras.js); the bytes fetched, previews apart.
+    hv.photoBytes = { previews: 0, previewBytes: 0, images: 0, imageBytes: 0 };
+    window.hvServiceCameras.fetchPhotographs(viewer, photos, order, {
+      put, fetchBytes, photoBase, rel, inFlight: FETCHES_IN_FLIGHT,
+      arrived: (i, bytes) => {
+        const li = document.querySelector('#photos li[data-index="' + i + '"]');
+        if (li) { li.classList.remove('pending'); addThumbnail(li, bytes, photos[i].id); }
+      },
+      failed: (p, e) => showError('photograph ' + p.id + ': ' + e.message),
+      done: () => { done++; },
+    }, hv.photoBytes).then(() => { hv.fetched = true; });
 
     // The frame loop: input, then a progressive frame when something changed.
     // Keys as events: `keys` are down now, `tapped` went down since the last frame, so a tap
@@ -242,7 +237,7 @@
       $('status').textContent = `frame ${s.lastFrameMs.toFixed(1)} ms\nimages ${s.selected || 0} selected, ` +
         `${s.waiting || 0} waiting\ndepth maps ${s.depthMaps || 0}\n` +
         (s.points ? `points ${(s.pointsDrawn || 0).toLocaleString('en')} drawn\n` : '') +
-        (s.converged ? 'converged' : 'refining…');
+        (s.converged ? 'converged' : 'refining…') + photoBytesText(hv.photoBytes);
       const f = viewer.focused();
       document.querySelectorAll('#photos li').forEach((li) => li.classList.toggle('focused', +li.dataset.index === f));
       timelineUi.update();

@@ -114,14 +114,20 @@ window.hvServices = (() => {
       b.dtm = 'services/dtm.asc';
     }
     manifest.buildings = b;
-    // The cameras file by URL (the photographs' paths relative to it).
+    // The cameras: a WFS / OGC API layer of camera points (services_cameras.js; the photographs'
+    // paths relative to the description), or a cameras file by URL (the paths relative to it).
     const cpath = servicePath(desc.cameras, descUrl + ': cameras', '');
-    const camerasUrl = new URL(cpath, descUrl).href;
-    put('cameras.json', new TextEncoder().encode((await fetchText(camerasUrl)).text));
-    manifest.cameras = 'cameras.json';
+    let photoBase = descUrl;
+    if (/^(WFS|OAPIF):/.test(cpath)) {
+      manifest.cameras = await window.hvServiceCameras.loadCameraLayer(cpath, descUrl, crs, put, info);
+    } else {
+      photoBase = new URL(cpath, descUrl).href;
+      put('cameras.json', new TextEncoder().encode((await fetchText(photoBase)).text));
+      manifest.cameras = 'cameras.json';
+    }
     put('scene_web.json', new TextEncoder().encode(JSON.stringify(manifest)));
     console.log(`histoview: service scene ${descUrl}: ${info.features} features in ${info.featurePages} pages`);
-    return { manifest, sceneBase, photoBase: camerasUrl, info };
+    return { manifest, sceneBase, photoBase, info };
   }
 
   return { loadServiceScene };

@@ -21,6 +21,7 @@
 #include "hv/viewer/timeline.h"
 #include "hv/viewer/traffic_clock.h"
 #include "hv/viewer/view_state.h"
+#include "web_services.h"
 
 #include <emscripten.h>
 #include <emscripten/bind.h>
@@ -80,6 +81,7 @@ class WebViewer {
       WebSceneOptions options;
       options.checkImageFiles = false;  // the images are fetched afterwards
       const auto t0 = std::chrono::steady_clock::now();
+      installPageRemoteReader(manifest.substr(0, manifest.rfind('/') + 1));  // photographs by URL
       scene_ = std::make_unique<Scene>(readWebScene(manifest, options, diag));
       sceneMs_ = msSince(t0);  // the points' chunk organisation (hv::organizeChunks) included
       arrivedPhoto_.assign(scene_->photos.size(), false);
@@ -144,6 +146,13 @@ class WebViewer {
     dirty_ = true;
   }
   int arrived() const { return arrived_; }
+  // Photographs from services (web_services.h): the requests of a IIIF image service for
+  // photograph i (which is then read from them), and where the page puts a URL's bytes.
+  std::string iiifPlan(int i, const std::string& infoText, const std::string& url) {
+    if (!scene_ || i < 0 || size_t(i) >= scene_->photos.size()) return json{{"error", "no such photograph"}}.dump();
+    return web::iiifPlan(scene_->photos[size_t(i)], infoText, url);
+  }
+  std::string remoteFilePath(const std::string& url) const { return web::remoteFilePath("", url); }
 
   // Cameras. The views file (cameras.json schema, images optional) is in the file system.
   std::string setViewFromFile(const std::string& path, const std::string& id, int width, int height) {
@@ -878,6 +887,8 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("fetchOrder", &WebViewer::fetchOrder)
       .function("photoArrived", &WebViewer::photoArrived)
       .function("arrived", &WebViewer::arrived)
+      .function("iiifPlan", &WebViewer::iiifPlan)
+      .function("remoteFilePath", &WebViewer::remoteFilePath)
       .function("setViewFromFile", &WebViewer::setViewFromFile)
       .function("overview", &WebViewer::overview)
       .function("move", &WebViewer::move)

@@ -121,7 +121,9 @@ int runWebExport(const WebExportOptions& o) {
   const fs::path source(HV_SOURCE_DIR);
   const fs::path pageDir = o.pageDir.empty() ? source / "web" : fs::path(o.pageDir);
   const fs::path wasmDir = o.wasmDir.empty() ? source / "build-web" / "dist" : fs::path(o.wasmDir);
-  const int page = copyPageFiles(pageDir, out, {"index.html", "histoview.js", "services.js", "histoview.css", "map.js", "pose.js"});
+  const int page = copyPageFiles(pageDir, out,
+                                 {"index.html", "histoview.js", "services.js", "services_cameras.js", "histoview.css",
+                                  "map.js", "pose.js"});
   const int wasm = copyPageFiles(wasmDir, out, {"histoview_web.js", "histoview_web.wasm"});
 
   size_t triangles = scene.terrain.triangles.size() + scene.buildings.triangles.size() + scene.mesh.triangles.size();

@@ -1,6 +1,7 @@
 #include "hv/io/web_scene.h"
 
 #include "hv/io/cameras_json.h"
+#include "hv/io/geojson_cameras.h"
 #include "hv/io/geojson_footprints.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/point_normals.h"
@@ -193,6 +194,46 @@ void appendValue(std::string& out, T v) {
 }
 
 std::int16_t snorm16(float v) { return std::int16_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)); }
+
+// The manifest's "cameras" as a camera layer (web_scene.h): GeoJSON pages fetched from a WFS or
+// OGC API – Features layer of camera points, each named in messages by the URL it came from.
+// Relative image and mask paths are relative to the service description, whose folder the page
+// mirrors here; http(s) URLs stay (the page puts what it fetched where the remote reader looks).
+std::vector<Photo> readServiceCameras(const json& c, const fs::path& dir, Diagnostics& diag) {
+  if (!c.contains("geojson") || !c["geojson"].is_array())
+    throw InputError("expected {\"geojson\": [\"page.json\", ...], \"urls\": [\"http://...\", ...]}");
+  const json urls = c.value("urls", json::array());
+  std::vector<Photo> photos;
+  const auto resolve = [&](std::string& path) {
+    if (!path.empty() && !isHttpUrl(path) && !fs::path(path).is_absolute()) path = (dir / path).lexically_normal().string();
+  };
+  for (std::size_t k = 0; k < c["geojson"].size(); ++k) {
+    const json& page = c["geojson"][k];
+    if (!page.is_string()) throw InputError("geojson: expected the names of files");
+    const fs::path file = dir / page.get<std::string>();
+    const std::string name = k < urls.size() && urls[k].is_string() ? urls[k].get<std::string>() : file.string();
+    GeoJsonCameraPage got;
+    try {
+      got = parseGeoJsonCameras(readTextFile(file.string(), kMaxJsonBytes, "cameras"), name, diag);
+    } catch (const InputError& e) {
+      diag.error(std::string(e.what()) + " (the page's cameras left out)");
+      continue;
+    }
+    for (Photo& p : got.photos) {
+      resolve(p.imagePath);
+      resolve(p.maskPath);
+      if (p.imagePath.empty()) {
+        diag.error(name + ": camera '" + p.camera.id + "': image: missing (expected the photograph's path or URL; "
+                   "camera skipped)");
+        continue;
+      }
+      photos.push_back(std::move(p));
+    }
+  }
+  log::debug("cameras: " + std::to_string(photos.size()) + " from " + std::to_string(c["geojson"].size()) +
+             " GeoJSON pages");
+  return photos;
+}
 
 // The manifest's "buildings" (web_scene.h): GeoJSON pages fetched from a service, extruded here
 // as the native loader extrudes footprints (hv/scene/footprint.h), on the DTM fetched beside them.
@@ -519,11 +560,13 @@ Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& optio
   }
   CameraFileOptions camOptions;
   camOptions.checkImageFiles = options.checkImageFiles;
-  const std::string cameras = j.value("cameras", std::string("cameras.json"));
   try {
-    scene.photos = readCameraFile((dir / cameras).string(), camOptions, diag);
+    if (j.contains("cameras") && j["cameras"].is_object())
+      scene.photos = readServiceCameras(j["cameras"], dir, diag);
+    else
+      scene.photos = readCameraFile((dir / j.value("cameras", std::string("cameras.json"))).string(), camOptions, diag);
   } catch (const InputError& e) {
-    diag.error(e.what());
+    diag.error(manifestPath + ": cameras: " + e.what());
   }
   return scene;
 }

@@ -5,13 +5,14 @@
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 
+#include "hv/io/camera_properties.h"
 #include "hv/io/native/private/gdal_init.h"
 #include "hv/io/native/remote.h"
 #include "hv/util/dates.h"
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -49,7 +50,6 @@ struct ResultSet {
 constexpr const char* kColumns =
     "fid, id, image, mask, width, height, focal_x, focal_y, principal_x, principal_y, skew, cam_from_world, "
     "distortion_model, distortion, date, colour_gain, colour_offset";
-constexpr int kDistortionNumbers = 12;
 
 std::string where(const std::string& connection, const std::string& table) {
   return redactConnection(connection) + ": table " + table;
@@ -95,61 +95,38 @@ std::string stringField(const OGRFeature& f, int index) {
   return f.GetFieldAsString(index);
 }
 
-bool isTextField(const OGRFeature& f, int index) { return f.GetFieldDefnRef(index)->GetType() == OFTString; }
-
-// A number field: a real or integer column, or text holding one number (a WFS schema that did not
-// say the type); anything else is refused, never read as 0.
-double realField(const OGRFeature& f, int index, const char* name) {
-  if (index < 0 || !f.IsFieldSetAndNotNull(index))
-    throw InputError(std::string(name) + ": missing (expected a number)");
-  if (isTextField(f, index)) {
-    const std::string text = f.GetFieldAsString(index);
-    const std::optional<double> v = parseNumber(text);
-    if (!v) throw InputError(std::string(name) + ": expected a number, got \"" + text + "\"");
-    return *v;
-  }
-  const double v = f.GetFieldAsDouble(index);
-  if (!std::isfinite(v)) throw InputError(std::string(name) + ": not finite");
-  return v;
-}
-
-int intField(const OGRFeature& f, int index, const char* name) {
-  const double v = realField(f, index, name);
-  if (v != std::floor(v) || v < 1 || v > 1e9)
-    throw InputError(std::string(name) + ": expected a positive whole number of pixels");
-  return int(v);
-}
-
-// A number array: an OGR list field (PostGIS float8[], GeoPackage), or text "{a,b,...}"
-// (PostgreSQL) or "[a,b,...]" (JSON, as GeoJSON and some WFS servers give it). Empty when
-// missing; throws naming the field when it is not a list of numbers.
-std::vector<double> realList(const OGRFeature& f, int index, const char* name) {
-  if (index < 0 || !f.IsFieldSetAndNotNull(index)) return {};
+// An OGR field as the portable camera decoder takes it (hv/io/camera_properties.h): text, a
+// list field, or any other field as the number OGR reads of it.
+CameraProperty fieldValue(const OGRFeature& f, int index) {
+  CameraProperty v;
+  if (index < 0 || !f.IsFieldSetAndNotNull(index)) return v;
   const OGRFieldType type = f.GetFieldDefnRef(index)->GetType();
-  if (type == OFTRealList || type == OFTIntegerList || type == OFTInteger64List) {
+  v.type = OGRFieldDefn::GetFieldTypeName(type);
+  if (type == OFTString) {
+    v.kind = CameraProperty::Kind::Text;
+    v.text = f.GetFieldAsString(index);
+  } else if (type == OFTRealList || type == OFTIntegerList || type == OFTInteger64List) {
+    v.kind = CameraProperty::Kind::NumberList;
     int n = 0;
-    const double* v = f.GetFieldAsDoubleList(index, &n);
-    if (type == OFTRealList) return std::vector<double>(v, v + n);
-    std::vector<double> out;
-    if (type == OFTIntegerList) {
+    if (type == OFTRealList) {
+      const double* w = f.GetFieldAsDoubleList(index, &n);
+      v.list.assign(w, w + n);
+    } else if (type == OFTIntegerList) {
       const int* w = f.GetFieldAsIntegerList(index, &n);
-      for (int i = 0; i < n; ++i) out.push_back(w[i]);
+      for (int i = 0; i < n; ++i) v.list.push_back(w[i]);
     } else {
       const GIntBig* w = f.GetFieldAsInteger64List(index, &n);
-      for (int i = 0; i < n; ++i) out.push_back(double(w[i]));
+      for (int i = 0; i < n; ++i) v.list.push_back(double(w[i]));
     }
-    return out;
+  } else if (type == OFTInteger || type == OFTInteger64 || type == OFTReal) {
+    v.kind = CameraProperty::Kind::Number;
+    v.number = f.GetFieldAsDouble(index);
+    v.text = f.GetFieldAsString(index);
+  } else {
+    v.kind = CameraProperty::Kind::Other;
+    v.text = f.GetFieldAsString(index);
   }
-  if (type == OFTString) {
-    const std::string text = f.GetFieldAsString(index);
-    std::optional<std::vector<double>> v = parseNumberList(text);
-    if (!v)
-      throw InputError(std::string(name) + ": expected a list of numbers, \"{a,b,...}\" or \"[a,b,...]\", got \"" +
-                       (text.size() > 80 ? text.substr(0, 80) + "..." : text) + "\"");
-    return std::move(*v);
-  }
-  throw InputError(std::string(name) + ": expected a list of numbers, got a field of type " +
-                   OGRFieldDefn::GetFieldTypeName(type));
+  return v;
 }
 
 // Doubles are written as text with 17 significant digits, which PostgreSQL parses back to the
@@ -202,23 +179,6 @@ void fillCameraFeature(OGRFeature& feature, const Photo& p, std::int64_t fid, Re
   feature.SetGeometryDirectly(new OGRPoint(c.center.x, c.center.y, c.center.z));
 }
 
-LensDistortion distortionFrom(const std::string& model, const std::vector<double>& v) {
-  LensDistortion d;
-  if (model == "polynomial")
-    d.model = LensDistortion::Model::Polynomial;
-  else if (model == "fisheye")
-    d.model = LensDistortion::Model::Fisheye;
-  else
-    throw InputError("distortion_model: expected \"polynomial\", \"fisheye\" or NULL, got \"" + model + "\"");
-  if (v.size() != kDistortionNumbers)
-    throw InputError("distortion: expected " + std::to_string(kDistortionNumbers) + " numbers, got " +
-                     std::to_string(v.size()));
-  d.center = {v[0], v[1]};
-  d.scale = {v[2], v[3]};
-  d.c3 = v[4], d.c5 = v[5], d.c7 = v[6], d.p1 = v[7], d.p2 = v[8], d.l1 = v[9], d.l2 = v[10], d.r2max = v[11];
-  return d;
-}
-
 // The columns of docs/catalog.md's layout in one OGR layer definition (-1: absent). The centre is
 // the columns centre_x/y/z when the layer has them (the catalog's SQL), else the feature's point.
 struct CameraFields {
@@ -232,55 +192,34 @@ struct CameraFields {
     gain = column("colour_gain"), offset = column("colour_offset"), x = column("centre_x"), y = column("centre_y"),
     z = column("centre_z");
   }
+  // The index of the column `name` (hv/io/camera_properties.h's names), -1 when absent.
+  int index(const char* name) const {
+    const std::pair<const char*, int> columns[] = {
+        {"id", id},         {"image", image},     {"mask", mask},           {"width", width},
+        {"height", height}, {"focal_x", fx},      {"focal_y", fy},          {"principal_x", cx},
+        {"principal_y", cy}, {"skew", skew},      {"cam_from_world", rot},  {"distortion_model", model},
+        {"distortion", dist}, {"date", date},     {"colour_gain", gain},    {"colour_offset", offset},
+        {"centre_x", x},    {"centre_y", y},      {"centre_z", z}};
+    for (const auto& [n, i] : columns)
+      if (std::strcmp(n, name) == 0) return i;
+    return -1;
+  }
 };
 
 // One feature's camera, every field checked (the per-feature decoder of both the PostGIS catalog
-// and any OGR point layer). Throws InputError naming the field; validateCamera's own checks
-// included.
+// and any OGR point layer): hv::decodeCameraProperties, the browser's decoder too. Throws
+// InputError naming the field; validateCamera's own checks included.
 Photo decodeCamera(const OGRFeature& f, const CameraFields& i) {
-  Photo p;
-  Camera& c = p.camera;
-  c.id = stringField(f, i.id);
-  if (c.id.empty()) throw InputError("id: missing (expected the camera's name)");
-  c.width = intField(f, i.width, "width");
-  c.height = intField(f, i.height, "height");
-  if (i.x >= 0) {
-    c.center = {realField(f, i.x, "centre (x)"), realField(f, i.y, "centre (y)"), realField(f, i.z, "centre (z)")};
-  } else {
+  const auto property = [&](const char* name) { return fieldValue(f, i.index(name)); };
+  const auto point = [&] {
     const OGRGeometry* g = f.GetGeometryRef();
     if (!g || g->IsEmpty() || wkbFlatten(g->getGeometryType()) != wkbPoint)
       throw InputError("centre: expected a point geometry");
-    const OGRPoint* point = g->toPoint();
-    if (!point->Is3D()) throw InputError("centre: expected a 3D point (x, y, z), got a 2D one");
-    c.center = {point->getX(), point->getY(), point->getZ()};
-    if (!std::isfinite(c.center.x) || !std::isfinite(c.center.y) || !std::isfinite(c.center.z))
-      throw InputError("centre: not finite");
-  }
-  c.focal = {realField(f, i.fx, "focal_x"), realField(f, i.fy, "focal_y")};
-  c.principal = {realField(f, i.cx, "principal_x"), realField(f, i.cy, "principal_y")};
-  c.skew = realField(f, i.skew, "skew");
-  const std::vector<double> rot = realList(f, i.rot, "cam_from_world");
-  if (rot.size() != 9)
-    throw InputError("cam_from_world: expected 9 numbers (row-major), got " + std::to_string(rot.size()));
-  c.camFromWorld = mat3FromRowMajor(rot.data());
-  const std::string model = stringField(f, i.model);
-  if (!model.empty()) c.distortion = distortionFrom(model, realList(f, i.dist, "distortion"));
-  p.imagePath = stringField(f, i.image);
-  p.maskPath = stringField(f, i.mask);
-  p.date = stringField(f, i.date);
-  if (!p.date.empty() && !parseDate(p.date))
-    throw InputError("date: expected an ISO 8601 date (YYYY, YYYY-MM, YYYY-MM-DD), got \"" + p.date + "\"");
-  const std::vector<double> gain = realList(f, i.gain, "colour_gain"), offset = realList(f, i.offset, "colour_offset");
-  if (!gain.empty() || !offset.empty()) {
-    if (gain.size() != 3 || offset.size() != 3) throw InputError("colour_gain/colour_offset: expected 3 numbers each");
-    p.colour.gain = {gain[0], gain[1], gain[2]};
-    p.colour.offset = {offset[0], offset[1], offset[2]};
-  }
-  // Checked on a copy: the rotation is kept bit for bit (validateCamera would re-orthonormalise
-  // what the writer already made orthonormal).
-  Camera probe = c;
-  validateCamera(probe);
-  return p;
+    const OGRPoint* pt = g->toPoint();
+    if (!pt->Is3D()) throw InputError("centre: expected a 3D point (x, y, z), got a 2D one");
+    return glm::dvec3(pt->getX(), pt->getY(), pt->getZ());
+  };
+  return decodeCameraProperties(property, point);
 }
 
 // Every feature of `layer` decoded into `out`; a feature that cannot be is named (`at`, its fid,
@@ -574,40 +513,6 @@ std::vector<std::vector<CameraCatalog::Neighbour>> CameraCatalog::nearestCameras
       out[std::size_t(i)].push_back({f->GetFieldAsInteger64(1), f->GetFieldAsString(2), f->GetFieldAsDouble(3)});
   }
   for (std::vector<Neighbour>& n : out) keepNearest(n, k);
-  return out;
-}
-
-std::optional<double> parseNumber(std::string_view text) {
-  auto space = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r'; };
-  while (!text.empty() && space(text.front())) text.remove_prefix(1);
-  while (!text.empty() && space(text.back())) text.remove_suffix(1);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  if (text.empty()) return std::nullopt;
-  double v = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-
-std::optional<std::vector<double>> parseNumberList(std::string_view text) {
-  auto space = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r'; };
-  while (!text.empty() && space(text.front())) text.remove_prefix(1);
-  while (!text.empty() && space(text.back())) text.remove_suffix(1);
-  if (text.size() < 2) return std::nullopt;
-  const char open = text.front(), close = text.back();
-  if (!((open == '{' && close == '}') || (open == '[' && close == ']'))) return std::nullopt;
-  text = text.substr(1, text.size() - 2);
-  std::vector<double> out;
-  const bool blank = std::all_of(text.begin(), text.end(), space);
-  if (blank) return out;
-  while (true) {
-    const std::size_t comma = text.find(',');
-    const std::optional<double> v = parseNumber(text.substr(0, comma));
-    if (!v) return std::nullopt;
-    out.push_back(*v);
-    if (comma == std::string_view::npos) break;
-    text.remove_prefix(comma + 1);
-  }
   return out;
 }
 
