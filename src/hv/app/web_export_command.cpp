@@ -1,4 +1,5 @@
 #include "hv/app/web_export_command.h"
+#include "hv/app/web_export_extras.h"
 
 #include "hv/scene/point_normals.h"
 #include "hv/session/session.h"
@@ -102,6 +103,7 @@ int runWebExport(const WebExportOptions& o) {
     }
   }
   writeWebScene(scene, photos, out.string());
+  writeWebSceneExtras(scene, (out / kWebSceneManifest).string(), diag);
   if (!o.viewsPath.empty()) {
     CameraFileOptions viewOpts;
     viewOpts.requireImages = false;
@@ -121,7 +123,7 @@ int runWebExport(const WebExportOptions& o) {
   const fs::path source(HV_SOURCE_DIR);
   const fs::path pageDir = o.pageDir.empty() ? source / "web" : fs::path(o.pageDir);
   const fs::path wasmDir = o.wasmDir.empty() ? source / "build-web" / "dist" : fs::path(o.wasmDir);
-  const int page = copyPageFiles(pageDir, out, {"index.html", "histoview.js", "services.js", "histoview.css", "map.js", "pose.js"});
+  const int page = copyPageFiles(pageDir, out, {"index.html", "histoview.js", "services.js", "services_layers.js", "histoview.css", "map.js", "pose.js"});
   const int wasm = copyPageFiles(wasmDir, out, {"histoview_web.js", "histoview_web.wasm"});
 
   size_t triangles = scene.terrain.triangles.size() + scene.buildings.triangles.size() + scene.mesh.triangles.size();
