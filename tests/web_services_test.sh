@@ -76,7 +76,7 @@ json.dump(d, open(sys.argv[2], "w"))' "$city/web/services.json" "$city/web/servi
 layer points points "{\"path\": \"$URL/files/tiles/tileset.json\", \"tolerance\": 0}"
 layer points-404 points "{\"path\": \"$URL/files/tiles-404/tileset.json\", \"tolerance\": 0}"
 layer points-bad points "{\"path\": \"$URL/files/tiles-bad/tileset.json\", \"tolerance\": 0}"
-pquery="camera=$id&w=$w&h=$h&k=4&points=true"
+pquery="camera=$id&w=$w&h=$h&k=4&points=true&point-color=rgb"
 page=$URL/files/web/index.html
 # The orthophoto from MapCache's WMTS: an export whose scene.json reads it natively (GDAL's WMTS
 # driver, the same tiles) against the page reading it itself, over the overview (much terrain

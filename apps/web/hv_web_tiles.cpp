@@ -121,7 +121,11 @@ class WebPointTiles {
     }
     // Tiles without normals (lidar seldom has them) get them estimated as web-export estimates the
     // export's (hv/scene/point_normals.h: the same estimate whatever the points' order).
-    if (!cloud.empty() && cloud.normals.empty()) estimateNormals(cloud);
+    if (!cloud.empty() && cloud.normals.empty()) {
+      NormalEstimation ne;
+      ne.threads = 0;  // no threads in the browser build
+      estimateNormals(cloud, ne);
+    }
     std::size_t written = 0;
     if (!cloud.empty()) {
       const std::string bytes = webPointBytes(cloud, origin_);
