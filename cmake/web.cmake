@@ -41,7 +41,7 @@ hv_embed_shaders(HV_SHADER_CPP)
 hv_define_modules()
 get_property(HV_MODULES GLOBAL PROPERTY HV_MODULES)
 
-add_executable(histoview_web ${CMAKE_SOURCE_DIR}/apps/web/hv_web.cpp ${CMAKE_SOURCE_DIR}/apps/web/web_services.cpp
+add_executable(histoview_web ${CMAKE_SOURCE_DIR}/apps/web/hv_web.cpp ${CMAKE_SOURCE_DIR}/apps/web/web_services.cpp ${CMAKE_SOURCE_DIR}/apps/web/hv_web_tiles.cpp
                ${CMAKE_SOURCE_DIR}/apps/web/stb_impl.cpp)
 target_compile_options(histoview_web PRIVATE ${HV_WARNINGS})
 target_link_libraries(histoview_web PRIVATE hv_ext_stb)

@@ -31,6 +31,16 @@ t0=$SECONDS
 # The export inside the served folder: lighttpd serves it under /files/web/ (page, wasm, files).
 "$HV" web-export "$city/scene.json" "$city/web" --views "$city/views.json" >"$DIR/export.out" 2>&1 ||
   { fail "web-export: $(tail -3 "$DIR/export.out")"; exit 1; }
+# Points from 3D Tiles (web/services_layers.js): the demo's lidar as a tileset served as static
+# files, a copy with one tile missing (the server answers 404), one with a malformed tileset.json.
+"$HV" points-tiles "$city/points.las" "$city/tiles" --points-per-tile 4000 >"$DIR/tiles.out" 2>&1 ||
+  { fail "points-tiles: $(tail -3 "$DIR/tiles.out")"; exit 1; }
+cp -r "$city/tiles" "$city/tiles-404"
+gone=$(cd "$city/tiles-404" && ls r?*.pnts | head -1)
+rm -f "$city/tiles-404/$gone"
+mkdir -p "$city/tiles-bad"
+echo '{"asset": {"version": "1.0"}, "geometricError": 10, "root": {"boundingVolume": {"box": [0, 0]}, "geometricError": 1}}' \
+  >"$city/tiles-bad/tileset.json"
 echo "demo and export: $((SECONDS - t0)) s"
 # Cameras and photographs from services (tests/web/web_services_cameras_test.mjs): the export's
 # cameras as a point layer that tools/services.sh serves by WFS (ms:cameras; the image paths
@@ -74,8 +84,43 @@ node_rc=$?
 cat "$DIR/node.out"
 ((node_rc == 0)) && pass "the browser test (node exit code 0)" || fail "the browser test: exit code $node_rc"
 
+# The service layers (tests/web/web_services_layers_test.mjs): points from the tileset (every
+# tile), compared with the export's points, with the point pass on; then the two faults.
+layer() {  # layer NAME KEY ENTRY: services.json with one more source
+  python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); d[sys.argv[3]] = json.loads(sys.argv[4])
+json.dump(d, open(sys.argv[2], "w"))' "$city/web/services.json" "$city/web/services-$1.json" "$2" "$3"
+}
+layer points points "{\"path\": \"$URL/files/tiles/tileset.json\", \"tolerance\": 0}"
+layer points-404 points "{\"path\": \"$URL/files/tiles-404/tileset.json\", \"tolerance\": 0}"
+layer points-bad points "{\"path\": \"$URL/files/tiles-bad/tileset.json\", \"tolerance\": 0}"
+pquery="camera=$id&w=$w&h=$h&k=4&points=true&point-color=rgb"
+page=$URL/files/web/index.html
+# The orthophoto from MapCache's WMTS: an export whose scene.json reads it natively (GDAL's WMTS
+# driver, the same tiles) against the page reading it itself, over the overview (much terrain
+# that no photograph reaches), and the page with the orthophoto switched off (it must show).
+wmts="WMTS:$URL/mapcache/wmts?SERVICE=WMTS&REQUEST=GetCapabilities"
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); d["orthophoto"] = {"path": sys.argv[3]}
+json.dump(d, open(sys.argv[2], "w"))' "$city/scene.json" "$city/scene-wmts.json" "$wmts"
+"$HV" web-export "$city/scene-wmts.json" "$city/web-wmts" --views "$city/views.json" >"$DIR/export-wmts.out" 2>&1 ||
+  fail "web-export of the WMTS scene: $(tail -3 "$DIR/export-wmts.out")"
+sed "s#/files/web/cameras.json#/files/web-wmts/cameras.json#" "$city/web/services.json" >"$city/web-wmts/services.json"
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); d["orthophoto"] = {"path": sys.argv[2]}
+json.dump(d, open(sys.argv[1], "w"))' "$city/web-wmts/services.json" "$wmts"
+oquery="w=200&h=150&k=4&points=0"
+opage=$URL/files/web-wmts/index.html
+timeout -k 5 500 node tests/web/web_services_layers_test.mjs "$DIR" "$page?$pquery" "$page?scene=services-points.json&$pquery" \
+  "$page?scene=services-points-404.json&$pquery" "$page?scene=services-points-bad.json&$pquery" \
+  "$opage?$oquery" "$opage?scene=services.json&$oquery" "$opage?scene=services.json&$oquery&orthophoto=false" \
+  >"$DIR/node-layers.out" 2>&1
+node_rc=$?
+cat "$DIR/node-layers.out"
+((node_rc == 0)) && pass "the browser test of the layers (node exit code 0)" || fail "the browser test of the layers: exit code $node_rc"
+
 # The stack saw the requests: the WFS pages as GeoJSON in the scene's CRS, the WCS as text.
 log=$state/access.log
+check "lighttpd's log: the tileset and its pnts tiles" grep -q 'GET /files/tiles/r[^ ]*\.pnts' "$log"
+check "lighttpd's log: the tileset.json" grep -q 'GET /files/tiles/tileset\.json' "$log"
+check "lighttpd's log: WMTS capabilities and tiles" grep -q 'GET /mapcache/wmts/1\.0\.0/orthophoto/' "$log"
 check "lighttpd's log: WFS GetFeature as GeoJSON, paged" grep -q 'REQUEST=GetFeature.*OUTPUTFORMAT=geojson.*COUNT=1000&STARTINDEX=0' "$log"
 check "lighttpd's log: WCS GetCoverage as text/plain" grep -q 'REQUEST=GetCoverage&FORMAT=text%2Fplain' "$log"
 

@@ -8,8 +8,9 @@
 //              depth-size=2048 (depth= too), points=0 (start with the point cloud hidden)
 //   log=debug  the renderer's log level in the console (debug, info, warn, error, off)
 //   scene=URL  a service scene (docs/services.md, "In the browser"): the buildings from a WFS, the
-//              DTM they stand on from a WCS, the cameras and photographs by URL, the rest (origin,
-//              terrain mesh, points, traffic) from a web export the description names
+//              DTM they stand on from a WCS, the cameras and photographs by URL, points from 3D
+//              Tiles (web/services_layers.js), the rest (origin, terrain mesh, traffic) from a web
+//              export the description names
 // The address bar keeps the current view (history.replaceState): the pose and the render settings
 // changed from the page's defaults (the time window `from`/`to`, the traffic's `time` among them),
 // so a copied link opens the same view.
@@ -103,9 +104,11 @@
     // scene (?scene=URL) where its description says.
     let sceneBase = location.href, photoBase = location.href, manifest;
     if (params.get('scene')) {
-      const s = await window.hvServices.loadServiceScene(new URL(params.get('scene'), location.href).href, put);
+      const s = await window.hvServices.loadServiceScene(new URL(params.get('scene'), location.href).href, put,
+                                                         { Module, root: ROOT });
       ({ manifest, sceneBase, photoBase } = s);
       hv.services = s.info;
+      (s.info.errors || []).forEach(showError);
     } else {
       const manifestBytes = await fetchBytes('scene_web.json');
       put('scene_web.json', manifestBytes);
@@ -114,6 +117,7 @@
     const fromScene = (f) => new URL(f, sceneBase).href;
     const sceneFiles = manifest.meshes.map((m) => m.path).concat([manifest.cameras || 'cameras.json']);
     if (manifest.points) sceneFiles.push(manifest.points.path);
+    if (manifest.orthophoto) sceneFiles.push(manifest.orthophoto.path);
     if (manifest.traffic) sceneFiles.push(...[manifest.traffic.csv, manifest.traffic.models].filter(Boolean));
     const expected = manifest.meshes.reduce((n, m) => n + 12 * (m.vertices + m.triangles) + (m.tags ? 4 * m.triangles : 0), 0) +
                      (manifest.points ? manifest.points.bytes || 0 : 0);
@@ -124,7 +128,7 @@
       setProgress(SCENE_SHARE * f, `scene ${megabytes(received)} / ${megabytes(expected)}` +
                   (manifest.points ? `, ${manifest.points.count.toLocaleString('en')} points` : ''));
     };
-    await Promise.all(sceneFiles.filter((f) => !hv.services || f !== manifest.cameras)
+    await Promise.all(sceneFiles.filter((f) => !hv.services || (f !== manifest.cameras && !(hv.services.local || []).includes(f)))
       .map(async (f) => put(f, await fetchBytes(fromScene(f), sceneProgress))));
     let haveViews = false;
     try { put('views.json', await fetchBytes(fromScene('views.json'))); haveViews = true; } catch (e) { /* optional */ }

@@ -42,7 +42,7 @@ window.hvServices = (() => {
     if (!source || typeof source.path !== 'string') throw new Error(what + ': expected {"path": "' + prefix + 'http://…"}');
     return source.path;
   };
-  async function loadServiceScene(descUrl, put) {
+  async function loadServiceScene(descUrl, put, ctx) {
     const desc = JSON.parse((await fetchText(descUrl)).text);
     if (desc.format !== 'histoview-services') throw new Error(descUrl + ': not a service scene ("format": "histoview-services" expected)');
     const info = { description: descUrl, featurePages: 0, features: 0, requests: [] };
@@ -125,6 +125,7 @@ window.hvServices = (() => {
       put('cameras.json', new TextEncoder().encode((await fetchText(photoBase)).text));
       manifest.cameras = 'cameras.json';
     }
+    if (window.hvServiceLayers) await window.hvServiceLayers.apply(desc, descUrl, manifest, { ...ctx, put }, info);
     put('scene_web.json', new TextEncoder().encode(JSON.stringify(manifest)));
     console.log(`histoview: service scene ${descUrl}: ${info.features} features in ${info.featurePages} pages`);
     return { manifest, sceneBase, photoBase, info };

@@ -9,6 +9,7 @@
 #include "hv/gpu/gl.h"
 #include "hv/gpu/present.h"
 #include "hv/io/cameras_json.h"
+#include "hv/io/web_orthophoto.h"
 #include "hv/io/web_scene.h"
 #include "hv/pose/pose_session.h"
 #include "hv/render/renderer.h"
@@ -83,12 +84,14 @@ class WebViewer {
       const auto t0 = std::chrono::steady_clock::now();
       installPageRemoteReader(manifest.substr(0, manifest.rfind('/') + 1));  // photographs by URL
       scene_ = std::make_unique<Scene>(readWebScene(manifest, options, diag));
+      orthophoto_ = readWebOrthophoto(manifest, diag);  // draped where no photograph reaches
       sceneMs_ = msSince(t0);  // the points' chunk organisation (hv::organizeChunks) included
       arrivedPhoto_.assign(scene_->photos.size(), false);
       // The points as `render --points` draws them (its defaults): on when the scene has some and
       // they fit in one frame's point budget (2 M by default), unless the page said otherwise.
       if (!pointsSet_) settings_.points.enabled = pointsOnAtStart(settings_.points.budget);
       renderer_ = std::make_unique<render::Renderer>(*scene_, rendererSettings(), diag_);
+      if (orthophoto_) renderer_->setOrthophoto(orthophoto_);
       presenter_ = std::make_unique<gpu::Presenter>();
       nav_ = std::make_unique<Navigator>(scene_->up, nullptr);
       const double spacing = scene_->cameraSpacing();
@@ -316,6 +319,7 @@ class WebViewer {
               {"vehicles", vehiclesOnRoad()},
               {"timelinePlaying", player_.playing()},
               {"thenNow", thenNow_},
+              {"orthophoto", orthophoto_ ? json{orthophoto_->width, orthophoto_->height} : json(nullptr)},
               {"errors", diag_.errors}};
     if (!error_.empty()) s["errors"].push_back(error_);
     if (renderer_) {
@@ -825,6 +829,7 @@ class WebViewer {
     next.debug.photo = renderer_->settings().debug.photo;
     renderer_.reset();
     renderer_ = std::make_unique<render::Renderer>(*scene_, next, diag_);
+    if (orthophoto_) renderer_->setOrthophoto(orthophoto_);
     renderedSinceMade_ = false;
   }
 
@@ -832,6 +837,7 @@ class WebViewer {
   std::string error_;
   Diagnostics diag_;
   std::unique_ptr<Scene> scene_;
+  std::shared_ptr<const Orthophoto> orthophoto_;  // the manifest's (hv/io/web_orthophoto.h); null: none
   render::RenderSettings settings_ = webDefaults();  // as set by the page (exclusions apart)
   bool pointsSet_ = false;                            // the page set "points" before load
   std::vector<bool> arrivedPhoto_;

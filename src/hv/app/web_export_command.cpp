@@ -1,4 +1,5 @@
 #include "hv/app/web_export_command.h"
+#include "hv/app/web_export_extras.h"
 
 #include "hv/scene/point_normals.h"
 #include "hv/session/session.h"
@@ -102,6 +103,7 @@ int runWebExport(const WebExportOptions& o) {
     }
   }
   writeWebScene(scene, photos, out.string());
+  writeWebSceneExtras(scene, (out / kWebSceneManifest).string(), diag);
   if (!o.viewsPath.empty()) {
     CameraFileOptions viewOpts;
     viewOpts.requireImages = false;
@@ -122,7 +124,7 @@ int runWebExport(const WebExportOptions& o) {
   const fs::path pageDir = o.pageDir.empty() ? source / "web" : fs::path(o.pageDir);
   const fs::path wasmDir = o.wasmDir.empty() ? source / "build-web" / "dist" : fs::path(o.wasmDir);
   const int page = copyPageFiles(pageDir, out,
-                                 {"index.html", "histoview.js", "services.js", "services_cameras.js", "histoview.css",
+                                 {"index.html", "histoview.js", "services.js", "services_cameras.js", "services_layers.js", "histoview.css",
                                   "map.js", "pose.js"});
   const int wasm = copyPageFiles(wasmDir, out, {"histoview_web.js", "histoview_web.wasm"});
 

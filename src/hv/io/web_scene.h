@@ -19,6 +19,9 @@
 //                   the footprints from a service (web/histoview.js, `?scene=`): GeoJSON pages in
 //                   the scene's CRS, extruded by the portable LOD1 code (hv/scene/footprint.h) on
 //                   the ESRI ASCII grid `dtm` (a WCS answer), replacing any "buildings" mesh.
+//                   "geocentric", "terrainExtent" and "orthophoto" (with orthophoto.rgba): added by
+//                   web-export for the page's service layers (hv/io/web_geocentric.h,
+//                   hv/io/web_orthophoto.h, src/hv/app/web_export_extras.h).
 //   NAME.bin        V*3 float32 positions relative to `origin` (render frame), then T*3 uint32
 //                   indices, then (when "tags") T uint32 triangle tags; little-endian, no header.
 //   points.bin      the point cloud (scene.points, in the scene frame, normals as loaded), below.
