@@ -1,5 +1,5 @@
 // Fuzz target: a 3D Tiles Point Cloud tile (hv::parsePnts): header, feature table JSON and binary
-// body. What parses is a consistent cloud of finite points.
+// body, the per-point batch table's Classification. What parses is a consistent cloud of finite points.
 #include "fuzz_util.h"
 #include "hv/io/tiles3d.h"
 

@@ -67,7 +67,7 @@ int runPointsTiles(const PointsTilesOptions& o) {
   }
   for (const std::string& w : diag.warnings) std::cerr << "warning: " << w << "\n";
   PointFields kept = cloud.fields();
-  kept.intensity = kept.classification = false;  // pnts has no field for them
+  kept.intensity = false;  // pnts has no field for it (classes go into the batch table)
   std::cout << "wrote " << (fs::path(o.out) / "tileset.json").string() << ": " << cloud.size() << " points ("
             << kept.describe() << ") in " << written.tiles << " tiles, " << written.depth + 1 << " levels, " << bytes
             << " bytes\n";

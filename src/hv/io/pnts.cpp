@@ -110,6 +110,103 @@ struct FeatureTable {
   }
 };
 
+// The per-point batch table (no BATCH_ID): "Classification" read into the cloud, when it is
+// 0..255 integers for every point (a JSON array, or a binary SCALAR of an integer componentType);
+// a malformed one is a note and the tile keeps its other fields. Other properties are named as
+// ignored.
+void readBatchTable(std::string_view text, std::string_view binary, const std::string& url, PntsTile& out) {
+  while (!text.empty() && (text.back() == ' ' || text.back() == '\0')) text.remove_suffix(1);
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    out.notes.push_back(inputMessage(url, "batchTable", std::string("expected a JSON object: ") + e.what()));
+    return;
+  }
+  if (!doc.is_object()) {
+    out.notes.push_back(inputMessage(url, "batchTable", "expected a JSON object, got " + shown(doc)));
+    return;
+  }
+  std::string ignored;
+  for (auto it = doc.begin(); it != doc.end(); ++it)
+    if (it.key() != "Classification") ignored += (ignored.empty() ? "" : ", ") + it.key();
+  if (!ignored.empty()) out.notes.push_back(inputMessage(url, "batchTable", "ignored: " + ignored));
+  if (!doc.contains("Classification")) return;
+  const std::string field = "batchTable.Classification";
+  const json& v = doc["Classification"];
+  const std::size_t n = out.points.size();
+  std::vector<std::uint8_t> classes(n);
+  auto fail = [&](const std::string& what) { out.notes.push_back(inputMessage(url, field, what + "; not read")); };
+  if (v.is_array()) {
+    if (v.size() != n) return fail("expected " + std::to_string(n) + " classes (one a point), got " + shown(v));
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!v[i].is_number_integer() || v[i].get<std::int64_t>() < 0 || v[i].get<std::int64_t>() > 255)
+        return fail("point " + std::to_string(i) + ": expected an integer 0..255, got " + shown(v[i]));
+      classes[i] = std::uint8_t(v[i].get<std::int64_t>());
+    }
+    out.points.classification = std::move(classes);
+    return;
+  }
+  static const std::pair<const char*, int> kTypes[] = {{"UNSIGNED_BYTE", 1}, {"BYTE", -1},        {"UNSIGNED_SHORT", 2},
+                                                       {"SHORT", -2},        {"UNSIGNED_INT", 4}, {"INT", -4}};
+  const auto type = v.is_object() && v.contains("componentType") && v["componentType"].is_string()
+                        ? std::find_if(std::begin(kTypes), std::end(kTypes),
+                                       [&](const auto& t) { return v["componentType"] == t.first; })
+                        : std::end(kTypes);
+  if (!v.is_object() || !v.contains("byteOffset") || !v["byteOffset"].is_number_unsigned() ||
+      type == std::end(kTypes) || v.value("type", json()) != "SCALAR")
+    return fail(
+        "expected an array of classes or {\"byteOffset\": n, \"componentType\": \"UNSIGNED_BYTE\" (or "
+        "another integer type), \"type\": \"SCALAR\"}, got " +
+        shown(v));
+  const std::size_t size = std::size_t(std::abs(type->second));
+  const std::uint64_t offset = v["byteOffset"].get<std::uint64_t>(), need = std::uint64_t(size) * n;
+  if (offset > binary.size() || need > binary.size() - offset)
+    return fail("byteOffset " + std::to_string(offset) + " + " + std::to_string(size) + "·N (N = " + std::to_string(n) +
+                ") = " + std::to_string(offset + need) + " bytes, past the batch table's binary body of " +
+                std::to_string(binary.size()) + " bytes");
+  for (std::size_t i = 0; i < n; ++i) {
+    const char* p = binary.data() + offset + size * i;
+    std::int64_t c = 0;
+    switch (type->second) {
+      case 1:
+        c = std::uint8_t(*p);
+        break;
+      case -1:
+        c = std::int8_t(*p);
+        break;
+      case 2: {
+        std::uint16_t x;
+        std::memcpy(&x, p, 2);
+        c = x;
+        break;
+      }
+      case -2: {
+        std::int16_t x;
+        std::memcpy(&x, p, 2);
+        c = x;
+        break;
+      }
+      case 4: {
+        std::uint32_t x;
+        std::memcpy(&x, p, 4);
+        c = x;
+        break;
+      }
+      default: {
+        std::int32_t x;
+        std::memcpy(&x, p, 4);
+        c = x;
+        break;
+      }
+    }
+    if (c < 0 || c > 255)
+      return fail("point " + std::to_string(i) + ": expected a class 0..255, got " + std::to_string(c));
+    classes[i] = std::uint8_t(c);
+  }
+  out.points.classification = std::move(classes);
+}
+
 }  // namespace
 
 PntsTile parsePnts(std::string_view bytes, const std::string& url) {
@@ -181,10 +278,11 @@ PntsTile parsePnts(std::string_view bytes, const std::string& url) {
       unknown += (unknown.empty() ? "" : ", ") + key;
   }
   if (!unknown.empty()) out.notes.push_back(inputMessage(url, "featureTable", "ignored: " + unknown));
-  if (doc.contains("BATCH_ID") || doc.contains("BATCH_LENGTH") || btJson + btBin > 0)
+  const bool perBatch = doc.contains("BATCH_ID") || doc.contains("BATCH_LENGTH");
+  if (perBatch && btJson + btBin > 0)
     out.notes.push_back(
         inputMessage(url, "batchTable",
-                     "ignored (" + std::to_string(btJson + btBin) + " bytes; per-point properties are not read)"));
+                     "ignored (" + std::to_string(btJson + btBin) + " bytes; properties per BATCH_ID are not read)"));
 
   PointFields fields;
   const bool rgba = doc.contains("RGBA"), rgb = doc.contains("RGB"), rgb565 = doc.contains("RGB565"),
@@ -271,6 +369,10 @@ PntsTile parsePnts(std::string_view bytes, const std::string& url) {
     for (std::size_t i = 0; i < ft.points; ++i)
       cloud.normals[i] = octDecode16P(std::uint8_t(p[2 * i]), std::uint8_t(p[2 * i + 1]));
   }
+  // The batch table without BATCH_ID is per point: its "Classification" is the ASPRS class.
+  if (!perBatch && btJson > 0)
+    readBatchTable(bytes.substr(kHeader + ftJson + ftBin, btJson),
+                   bytes.substr(kHeader + ftJson + ftBin + btJson, btBin), url, out);
   return out;
 }
 
@@ -319,14 +421,24 @@ std::string writePnts(const PointCloud& cloud) {
   pad(bin, 8, '\0');
   std::string text = ft.dump();
   while ((28 + text.size()) % 8) text.push_back(' ');
+  // The ASPRS classes as the per-point batch table's "Classification" (no BATCH_ID): its JSON
+  // padded with spaces and its binary body with zeros to 8-byte boundaries, as the feature table's.
+  std::string batchText, batchBin;
+  if (!cloud.classification.empty()) {
+    batchText =
+        json{{"Classification", {{"byteOffset", 0}, {"componentType", "UNSIGNED_BYTE"}, {"type", "SCALAR"}}}}.dump();
+    while ((28 + text.size() + bin.size() + batchText.size()) % 8) batchText.push_back(' ');
+    batchBin.assign(reinterpret_cast<const char*>(cloud.classification.data()), cloud.classification.size());
+    pad(batchBin, 8, '\0');
+  }
   std::string out = "pnts";
   put(out, std::uint32_t(1));
-  put(out, std::uint32_t(28 + text.size() + bin.size()));
+  put(out, std::uint32_t(28 + text.size() + bin.size() + batchText.size() + batchBin.size()));
   put(out, std::uint32_t(text.size()));
   put(out, std::uint32_t(bin.size()));
-  put(out, std::uint32_t(0));
-  put(out, std::uint32_t(0));
-  return out + text + bin;
+  put(out, std::uint32_t(batchText.size()));
+  put(out, std::uint32_t(batchBin.size()));
+  return out + text + bin + batchText + batchBin;
 }
 
 }  // namespace hv

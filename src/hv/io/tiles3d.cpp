@@ -335,10 +335,11 @@ PointTilesWritten writePointTiles(const PointCloud& cloud, const glm::dmat4& roo
   auto subset = [&](const std::vector<std::uint32_t>& idx) {
     PointCloud c;
     PointFields f = cloud.fields();
-    f.intensity = f.classification = false;
+    f.intensity = false;  // pnts has no field for it
     c.resize(idx.size(), f);
     for (std::size_t i = 0; i < idx.size(); ++i) {
       c.positions[i] = cloud.positions[idx[i]];
+      if (f.classification) c.classification[i] = cloud.classification[idx[i]];
       if (f.rgb) c.rgb[i] = cloud.rgb[idx[i]];
       if (f.normals) c.normals[i] = cloud.normals[idx[i]];
     }

@@ -78,7 +78,8 @@ std::string resolveTileUri(const std::string& base, const std::string& uri);
 glm::dvec3 wgs84ToEcef(double lon, double lat, double height);
 
 // A Point Cloud tile: the points in the tile's frame (positions, rgb 16-bit as LAS, normals when
-// the tile has them) and what was ignored (the batch table, unknown semantics).
+// the tile has them, ASPRS classes from a per-point batch table's "Classification") and what was
+// ignored (other batch table properties, unknown semantics).
 struct PntsTile {
   PointCloud points;
   std::vector<std::string> notes;

@@ -139,6 +139,69 @@ TEST(Pnts, BatchTableIsNamedAsIgnored) {
   EXPECT_NE(t.notes[1].find("batchTable: ignored"), std::string::npos);
 }
 
+TEST(Pnts, ClassificationFromThePerPointBatchTable) {
+  // Two points; the batch table (no BATCH_ID, so one entry a point) carries the ASPRS classes.
+  std::string bin;
+  for (float v : {1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f}) put(bin, v);
+  const std::string ftJson = R"({"POINTS_LENGTH":2,"POSITION":{"byteOffset":0}})";
+  auto tile = [&](std::string batchJson, const std::string& batchBin) {
+    std::string t = pnts(ftJson, bin);  // 8-aligned: the batch table follows
+    while ((t.size() + batchJson.size()) % 8) batchJson.push_back(' ');
+    std::string out = t + batchJson + batchBin;
+    const std::uint32_t total = std::uint32_t(out.size()), jl = std::uint32_t(batchJson.size()),
+                        bl = std::uint32_t(batchBin.size());
+    std::memcpy(out.data() + 8, &total, 4);
+    std::memcpy(out.data() + 20, &jl, 4);
+    std::memcpy(out.data() + 24, &bl, 4);
+    return out;
+  };
+  const PntsTile bytes =
+      parsePnts(tile(R"({"Classification":{"byteOffset":8,"componentType":"UNSIGNED_BYTE","type":"SCALAR"}})",
+                     std::string("\0\0\0\0\0\0\0\0\x02\x06\0\0\0\0\0\0", 16)),
+                "t.pnts");
+  EXPECT_TRUE(bytes.notes.empty()) << bytes.notes[0];
+  EXPECT_EQ(bytes.points.classification, (std::vector<std::uint8_t>{2, 6}));
+  EXPECT_TRUE(bytes.points.consistent());
+  std::string shorts;
+  put(shorts, std::uint16_t(5)), put(shorts, std::uint16_t(9)), put(shorts, std::uint32_t(0));
+  const PntsTile wide = parsePnts(
+      tile(R"({"Classification":{"byteOffset":0,"componentType":"UNSIGNED_SHORT","type":"SCALAR"},"height":[1,2]})",
+           shorts),
+      "t.pnts");
+  EXPECT_EQ(wide.points.classification, (std::vector<std::uint8_t>{5, 9}));
+  ASSERT_EQ(wide.notes.size(), 1u);
+  EXPECT_NE(wide.notes[0].find("batchTable: ignored: height"), std::string::npos) << wide.notes[0];
+  const PntsTile array = parsePnts(tile(R"({"Classification":[17,1]})", ""), "t.pnts");
+  EXPECT_EQ(array.points.classification, (std::vector<std::uint8_t>{17, 1}));
+
+  // Malformed: named (URL, field, what was expected), the points still read without classes.
+  auto noted = [&](const std::string& batchJson, const std::string& batchBin) {
+    const PntsTile t = parsePnts(tile(batchJson, batchBin), "http://h/t/r0.pnts");
+    EXPECT_EQ(t.points.size(), 2u);
+    EXPECT_EQ(t.points.positions[1], glm::dvec3(4, 5, 6));
+    EXPECT_TRUE(t.points.classification.empty());
+    EXPECT_TRUE(t.points.consistent());
+    return t.notes.size() == 1 ? t.notes[0] : "(" + std::to_string(t.notes.size()) + " notes)";
+  };
+  const std::string past = noted(
+      R"({"Classification":{"byteOffset":7,"componentType":"UNSIGNED_BYTE","type":"SCALAR"}})", std::string(8, '\0'));
+  EXPECT_NE(past.find("http://h/t/r0.pnts"), std::string::npos) << past;
+  EXPECT_NE(past.find("batchTable.Classification"), std::string::npos) << past;
+  EXPECT_NE(past.find("7 + 1·N (N = 2) = 9 bytes, past the batch table's binary body of 8 bytes"), std::string::npos)
+      << past;
+  EXPECT_NE(
+      noted(R"({"Classification":{"byteOffset":0,"componentType":"FLOAT","type":"SCALAR"}})", std::string(8, '\0'))
+          .find("expected an array of classes or {\"byteOffset\""),
+      std::string::npos);
+  EXPECT_NE(noted(R"({"Classification":[3]})", "").find("expected 2 classes"), std::string::npos);
+  EXPECT_NE(noted(R"({"Classification":[3,256]})", "").find("point 1: expected an integer 0..255"), std::string::npos);
+  EXPECT_NE(noted(R"({"Classification":{"byteOffset":0,"componentType":"SHORT","type":"SCALAR"}})",
+                  std::string("\x01\0\xff\xff\0\0\0\0", 8))
+                .find("point 1: expected a class 0..255, got -1"),
+            std::string::npos);
+  EXPECT_NE(noted(R"({"Classification":)", "").find("batchTable: expected a JSON object"), std::string::npos);
+}
+
 TEST(Pnts, BrokenTilesAreNamedWithTheFieldAndWhatWasExpected) {
   std::string bin(900, '\0');
   const std::string good = pnts(R"({"POINTS_LENGTH":75,"POSITION":{"byteOffset":0}})", bin);
@@ -336,7 +399,8 @@ TEST(PointTilesWriter, EveryPointOnceAcrossTheTree) {
   // 3000 points on a 10 cm grid (distinct), colours and normals; the tree's points, each tile's
   // decoded through the root transform, are the same points within quantization.
   PointCloud cloud;
-  cloud.resize(3000, PointFields{false, false, true, true});
+  cloud.resize(3000, PointFields{false, true, true, true});
+  std::map<std::tuple<long, long, long>, std::uint8_t> classOf;
   std::uint64_t s = 12345;
   std::set<std::tuple<long, long, long>> cells;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -348,6 +412,7 @@ TEST(PointTilesWriter, EveryPointOnceAcrossTheTree) {
     cloud.positions[i] = 0.1 * glm::dvec3(std::get<0>(cell), std::get<1>(cell), std::get<2>(cell));
     cloud.rgb[i] = glm::u16vec3(std::uint16_t(i % 256 * 257), 0, 65535);
     cloud.normals[i] = glm::vec3(0, 0, 1);
+    cloud.classification[i] = classOf[cell] = std::uint8_t((std::get<0>(cell) * 7 + std::get<2>(cell)) % 19);
   }
   const glm::dmat4 root = glm::dmat4(glm::dvec4(0, 1, 0, 0), glm::dvec4(-1, 0, 0, 0), glm::dvec4(0, 0, 1, 0),
                                      glm::dvec4(4e6, 3e5, 4.8e6, 1));
@@ -365,6 +430,10 @@ TEST(PointTilesWriter, EveryPointOnceAcrossTheTree) {
     const PntsTile p = parsePnts(files.at(t.content), t.content);
     total += p.points.size();
     EXPECT_EQ(p.points.normals.size(), p.points.size());
+    ASSERT_EQ(p.points.classification.size(), p.points.size()) << t.content;
+    EXPECT_TRUE(p.notes.empty()) << p.notes[0];
+    // 28-byte header, feature table and batch table each on 8-byte boundaries.
+    EXPECT_EQ(files.at(t.content).size() % 8, 0u);
     for (std::size_t i = 0; i < p.points.size(); ++i) {
       const glm::dvec3 world = glm::dvec3(t.transform * glm::dvec4(p.points.positions[i], 1.0));
       // Within the tile's bounding sphere.
@@ -373,6 +442,8 @@ TEST(PointTilesWriter, EveryPointOnceAcrossTheTree) {
       const glm::dvec3 r = glm::round(local);
       EXPECT_LT(glm::length(local - r), 0.3);  // quantization: under 3 cm over a 200 m box
       seen.insert({long(r.x), long(r.y), long(r.z)});
+      const std::tuple<long, long, long> cell{long(r.x), long(r.y), long(r.z)};
+      EXPECT_EQ(p.points.classification[i], classOf[cell]);
     }
   }
   EXPECT_EQ(total, cloud.size());
