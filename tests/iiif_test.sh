@@ -129,15 +129,17 @@ P=http://127.0.0.1:$pport
 # (HV_NO_CACHE=1) through a slow link (the fault proxy's `throttled-data`, 8 KiB/s: on loopback
 # alone the full images arrive before a preview is ever drawn, and at 16 KiB/s, 1.2 s for the
 # four, they did so too when the first frame was slow). A preview (about 2.5 KB) then takes 0.3 s
-# and a full image (about 18 KB) 2.3 s, within the harness's 5 s time-out; the path lasts 12 s
-# (181 frames, 31 ms each on a quiet machine) so that the flight converges. The first frame that
+# and a full image (about 18 KB) 2.3 s, within the harness's 5 s time-out. fly draws its frames as
+# fast as it can, not in real time, so the path must hold enough frames for the four full images
+# to arrive even one after the other (9 s): it lasts 40 s (601 frames, 26 ms each on a quiet
+# machine with a program per shading configuration: 15.6 s; 12 s, 4.8 s of frames, was too short). The first frame that
 # shows photographs shows their previews (asked by width, "W,"), the converged frame the full
 # images, as the views from the files.
 cameras throttled "$P/throttled-data/iiif?IIIF={id}.tif/info.json"
 python3 - "$city/views.json" "$DIR/path.json" <<'PY'
 import json, sys
 view = json.load(open(sys.argv[1]))["cameras"][0]
-json.dump({"cameras": [dict(view, id="a", t=0), dict(view, id="b", t=12)]}, open(sys.argv[2], "w"))
+json.dump({"cameras": [dict(view, id="a", t=0), dict(view, id="b", t=40)]}, open(sys.argv[2], "w"))
 PY
 view_id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["cameras"][0]["id"])' "$city/views.json")
 flush_log

@@ -1,6 +1,7 @@
 #include "hv/io/geojson_cameras.h"
 
 #include "hv/io/camera_properties.h"
+#include "hv/io/json_input.h"
 
 #include <nlohmann/json.hpp>
 
@@ -63,21 +64,8 @@ glm::dvec3 pointOf(const json& f) {
 }  // namespace
 
 GeoJsonCameraPage parseGeoJsonCameras(const std::string& text, const std::string& name, Diagnostics& diag) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {
-    throw InputError(name + ": not valid JSON: " + e.what());
-  }
-  if (!doc.is_object() || doc.value("type", std::string()) != "FeatureCollection" || !doc.contains("features") ||
-      !doc["features"].is_array())
-    throw InputError(name +
-                     ": expected a GeoJSON FeatureCollection (\"type\": \"FeatureCollection\", \"features\": [...])");
   GeoJsonCameraPage page;
-  if (doc.contains("links") && doc["links"].is_array())
-    for (const json& l : doc["links"])
-      if (l.is_object() && l.value("rel", std::string()) == "next" && l.contains("href") && l["href"].is_string())
-        page.next = l["href"].get<std::string>();
+  const json doc = parseFeatureCollection(text, name, page.next);
   const json noProperties = json::object();
   for (const json& f : doc["features"]) {
     const std::size_t index = page.features++;

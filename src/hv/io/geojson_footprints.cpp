@@ -1,5 +1,7 @@
 #include "hv/io/geojson_footprints.h"
 
+#include "hv/io/json_input.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -55,21 +57,8 @@ std::vector<std::vector<glm::dvec2>> ringsOf(const json& polygon, const std::str
 
 GeoJsonFootprintPage parseGeoJsonFootprints(const std::string& text, const GeoJsonFootprintFields& fields,
                                             const std::string& name, Diagnostics& diag) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {
-    throw InputError(name + ": not valid JSON: " + e.what());
-  }
-  if (!doc.is_object() || doc.value("type", std::string()) != "FeatureCollection" || !doc.contains("features") ||
-      !doc["features"].is_array())
-    throw InputError(name +
-                     ": expected a GeoJSON FeatureCollection (\"type\": \"FeatureCollection\", \"features\": [...])");
   GeoJsonFootprintPage page;
-  if (doc.contains("links") && doc["links"].is_array())
-    for (const json& l : doc["links"])
-      if (l.is_object() && l.value("rel", std::string()) == "next" && l.contains("href") && l["href"].is_string())
-        page.next = l["href"].get<std::string>();
+  const json doc = parseFeatureCollection(text, name, page.next);
   for (const json& f : doc["features"]) {
     const std::size_t index = page.features++;
     std::string id = std::to_string(index);

@@ -136,4 +136,23 @@ std::vector<std::string> unknownKeys(const json& object, const std::vector<std::
   return out;
 }
 
+nlohmann::json parseFeatureCollection(const std::string& text, const std::string& name, std::string& next) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(name + ": not valid JSON: " + e.what());
+  }
+  if (!doc.is_object() || doc.value("type", std::string()) != "FeatureCollection" || !doc.contains("features") ||
+      !doc["features"].is_array())
+    throw InputError(name +
+                     ": expected a GeoJSON FeatureCollection (\"type\": \"FeatureCollection\", \"features\": [...])");
+  next.clear();
+  if (doc.contains("links") && doc["links"].is_array())
+    for (const nlohmann::json& l : doc["links"])
+      if (l.is_object() && l.value("rel", std::string()) == "next" && l.contains("href") && l["href"].is_string())
+        next = l["href"].get<std::string>();
+  return doc;
+}
+
 }  // namespace hv

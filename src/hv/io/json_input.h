@@ -23,6 +23,12 @@ nlohmann::json parseJsonInput(const std::string& text, const std::string& file, 
 // readTextFile(path, kMaxJsonBytes, what) then parseJsonInput.
 nlohmann::json readJsonInput(const std::string& path, const std::string& what, Diagnostics& diag);
 
+// A GeoJSON FeatureCollection page, as a WFS GetFeature or an OGC API – Features `items` request
+// answers it. Throws InputError naming `name` when `text` is not JSON or not a FeatureCollection
+// with a "features" array. `next`: the href of its `links` entry with rel "next" (OGC API paging),
+// or empty.
+nlohmann::json parseFeatureCollection(const std::string& text, const std::string& name, std::string& next);
+
 // True for the strings parseJsonInput turns the non-finite literals into.
 bool isNonFiniteLiteral(const nlohmann::json& v);
 

@@ -115,25 +115,7 @@ std::vector<int> PointTileSelection::next() {
 
 PointCloud PointTileSelection::points() const {
   PointCloud into;
-  for (const auto& [t, add] : selected_) {
-    if (add.empty()) continue;
-    if (into.empty()) {
-      into = add;
-      continue;
-    }
-    const PointFields a = into.fields(), b = add.fields();
-    auto join = [](auto& x, const auto& y, bool both) {
-      if (both)
-        x.insert(x.end(), y.begin(), y.end());
-      else
-        x.clear();
-    };
-    into.positions.insert(into.positions.end(), add.positions.begin(), add.positions.end());
-    join(into.rgb, add.rgb, a.rgb && b.rgb);
-    join(into.normals, add.normals, a.normals && b.normals);
-    join(into.intensity, add.intensity, a.intensity && b.intensity);
-    join(into.classification, add.classification, a.classification && b.classification);
-  }
+  for (const auto& [t, add] : selected_) into.append(add);
   return into;
 }
 

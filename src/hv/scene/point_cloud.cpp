@@ -55,6 +55,29 @@ void permuteVector(std::vector<T>& v, const std::vector<std::uint32_t>& order) {
 
 }  // namespace
 
+void PointCloud::append(const PointCloud& add) {
+  if (add.empty()) return;
+  if (empty()) {
+    const std::string keepCrs = crs, keepSource = sourcePath;
+    *this = add;
+    if (!keepCrs.empty()) crs = keepCrs;
+    if (!keepSource.empty()) sourcePath = keepSource;
+    return;
+  }
+  const PointFields a = fields(), b = add.fields();
+  auto join = [](auto& x, const auto& y, bool both) {
+    if (both)
+      x.insert(x.end(), y.begin(), y.end());
+    else
+      x.clear();
+  };
+  positions.insert(positions.end(), add.positions.begin(), add.positions.end());
+  join(rgb, add.rgb, a.rgb && b.rgb);
+  join(normals, add.normals, a.normals && b.normals);
+  join(intensity, add.intensity, a.intensity && b.intensity);
+  join(classification, add.classification, a.classification && b.classification);
+}
+
 void PointCloud::permute(const std::vector<std::uint32_t>& order) {
   assert(order.size() == size() && "PointCloud::permute: order must be a permutation of the points");
   resolveNormals(*this);  // estimated over the positions they were deferred with

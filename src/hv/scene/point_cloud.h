@@ -76,6 +76,10 @@ struct PointCloud {
   void permute(const std::vector<std::uint32_t>& order);
   // True when every non-empty attribute has size() entries.
   bool consistent() const;
+  // Appends `add`'s points (a tileset's tiles into one cloud): the fields both have; a field only
+  // one has is dropped, so the cloud stays consistent. An empty cloud takes `add` whole, keeping
+  // its own crs and sourcePath where it has them.
+  void append(const PointCloud& add);
 };
 
 }  // namespace hv

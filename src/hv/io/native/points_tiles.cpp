@@ -60,30 +60,6 @@ Fetched fetchTile(const Tiles3dTile& tile) {
   return f;
 }
 
-// Appends `add` to `into` (the fields both have; a field only one has is dropped from the result
-// when the other has points, so that the cloud stays consistent).
-void appendCloud(PointCloud& into, const PointCloud& add) {
-  if (add.empty()) return;
-  if (into.empty()) {
-    const std::string crs = into.crs, source = into.sourcePath;
-    into = add;
-    into.crs = crs, into.sourcePath = source;
-    return;
-  }
-  const PointFields a = into.fields(), b = add.fields();
-  auto join = [](auto& x, const auto& y, bool both) {
-    if (both)
-      x.insert(x.end(), y.begin(), y.end());
-    else
-      x.clear();
-  };
-  into.positions.insert(into.positions.end(), add.positions.begin(), add.positions.end());
-  join(into.rgb, add.rgb, a.rgb && b.rgb);
-  join(into.normals, add.normals, a.normals && b.normals);
-  join(into.intensity, add.intensity, a.intensity && b.intensity);
-  join(into.classification, add.classification, a.classification && b.classification);
-}
-
 }  // namespace
 
 bool isTilesetPath(const std::string& path) {
@@ -242,7 +218,7 @@ PointCloud loadPointTileset(const PointTilesetRequest& request, const std::vecto
 
   info.tilesInTileset = ts.tiles.size();
   info.tilesKept = selected.size();
-  for (const auto& [t, points] : selected) appendCloud(cloud, points);
+  for (const auto& [t, points] : selected) cloud.append(points);
   for (const std::string& n : ts.notes) diag.warn(n);
   if (info.budgetLimited)
     diag.warn(inputMessage(request.url, "points.budget",
