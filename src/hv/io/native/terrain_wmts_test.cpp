@@ -20,7 +20,9 @@ namespace {
 TEST(TerrainWmts, SameHeightsAsTheFile) {
   const char* wmts = std::getenv("HV_TEST_WMTS_TERRAIN");
   const char* file = std::getenv("HV_TEST_WMTS_TERRAIN_FILE");
-  if (!wmts || !file) GTEST_SKIP() << "no WMTS server (tests/terrain_wmts_test.sh runs this test)";
+  // Only tests/terrain_wmts_test.sh runs this test (ctest terrain_wmts), with the server it starts;
+  // the discovered hv_tests list leaves it out (CMakeLists.txt), so a missing server is a failure.
+  ASSERT_TRUE(wmts && file) << "HV_TEST_WMTS_TERRAIN and HV_TEST_WMTS_TERRAIN_FILE unset: run tests/terrain_wmts_test.sh";
   SourceGeoref georef;
   georef.sceneCrs = "EPSG:2154";
   Diagnostics diag;
