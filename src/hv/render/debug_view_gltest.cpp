@@ -23,28 +23,8 @@ namespace {
 
 using testing::kStreetOrigin;
 
-class DebugViewGlTest : public ::testing::Test {
+class DebugViewGlTest : public testing::PhotoGlTest {
  protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
-
-  void addPhoto(Scene& s, const Camera& cam, const Image8& image, const Image8* mask = nullptr) {
-    if (dir_.empty()) dir_ = testing::makeTempDir("debug-view");
-    Photo p;
-    p.camera = cam;
-    p.imagePath = dir_ + "/" + cam.id + ".png";
-    writePng(p.imagePath, image);
-    if (mask) {
-      p.maskPath = dir_ + "/" + cam.id + ".mask.png";
-      writePng(p.maskPath, *mask);
-    }
-    s.photos.push_back(p);
-  }
-
-  std::string dir_;
 };
 
 // A box building of the street scene's kind (hv::extrudeLod1 on a rectangle, metres from the origin).
@@ -104,18 +84,7 @@ void main() { o_color = vec4(hv_colorRamp(floor(gl_FragCoord.x) / 255.0), 1.0); 
 // of the three sum to 1 where the pixel is covered.
 TEST_F(DebugViewGlTest, WeightViewMatchesCpuReferenceShares) {
   Scene scene = testing::streetScene();
-  const glm::dvec3 o = kStreetOrigin;
-  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
-           testing::patternImage(160, 120, 1));
-  Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
-  LensDistortion d;
-  d.center = {101.0, 74.0};
-  d.c3 = -4e-6;
-  d.r2max = 160.0 * 160.0;
-  b.distortion = d;
-  addPhoto(scene, b, testing::patternImage(200, 150, 2));
-  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
-           testing::patternImage(120, 120, 3));
+  addStreetPhotos(scene, "abc", 160.0);
   // A mask on "c" makes a_i vary inside the image.
   Image8 mask(120, 120, 1, 255);
   for (int y = 0; y < 120; ++y)
@@ -131,7 +100,7 @@ TEST_F(DebugViewGlTest, WeightViewMatchesCpuReferenceShares) {
   settings.blend.featherPx = 0.0;  // the CPU shares below are the papers' eq. 2, hard-edged
   settings.depthSize = 256;
   Renderer renderer(scene, settings, diag);
-  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const Camera view = testing::streetView();
   std::vector<Image16> shares;
   std::vector<Image8> pictures;
   for (int photo = 0; photo < 3; ++photo) {

@@ -30,23 +30,8 @@ namespace {
 
 using testing::kStreetOrigin;
 
-class PointsGlTest : public ::testing::Test {
+class PointsGlTest : public testing::PhotoGlTest {
  protected:
-  void SetUp() override {
-    testing::glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)); }
-
-  void addPhoto(Scene& s, const Camera& cam, const Image8& image) {
-    if (dir_.empty()) dir_ = testing::makeTempDir("points");
-    Photo p;
-    p.camera = cam;
-    p.imagePath = dir_ + "/" + cam.id + ".png";
-    writePng(p.imagePath, image);
-    s.photos.push_back(p);
-  }
-  std::string dir_;
 };
 
 // One point with a normal, a facade-like plane at y = 5 facing the cameras.

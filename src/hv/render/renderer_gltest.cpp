@@ -18,31 +18,10 @@
 namespace hv::render {
 namespace {
 
-using testing::glContext;
 using testing::kStreetOrigin;
 
-class RendererGlTest : public ::testing::Test {
+class RendererGlTest : public testing::PhotoGlTest {
  protected:
-  void SetUp() override {
-    glContext();
-    gpu::clearGlErrors();
-  }
-  void TearDown() override { EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind"; }
-
-  // Adds a photograph (written to a temp dir) to the scene.
-  void addPhoto(Scene& s, const Camera& cam, const Image8& image, const Image8* mask = nullptr) {
-    if (dir_.empty()) dir_ = testing::makeTempDir("renderer");
-    Photo p;
-    p.camera = cam;
-    p.imagePath = dir_ + "/" + cam.id + ".png";
-    writePng(p.imagePath, image);
-    if (mask) {
-      p.maskPath = dir_ + "/" + cam.id + ".mask.png";
-      writePng(p.maskPath, *mask);
-    }
-    s.photos.push_back(p);
-  }
-
   // Renders `view` and compares it with hv::ibr::referenceBlend at sampled pixels (visibility by
   // ray casting). Returns how many compared pixels blend an image that is not among the K nearest
   // candidates (another failed a test there), in region selection.
@@ -211,8 +190,6 @@ class RendererGlTest : public ::testing::Test {
     EXPECT_LE(maxDiff, 4.0 / 255.0) << "over " << compared << " pixels";
     return replaced;
   }
-
-  std::string dir_;
 };
 
 TEST_F(RendererGlTest, EveryShaderCompilesAndLinks) {
@@ -233,26 +210,15 @@ TEST_F(RendererGlTest, EveryShaderCompilesAndLinks) {
 
 TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
   Scene scene = testing::streetScene();
-  const glm::dvec3 o = kStreetOrigin;
   // Three photographs of the street with different intrinsics, one distorted; sizes differ so one
   // of them sits padded in its slice.
-  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
-           testing::patternImage(160, 120, 1));
-  Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
-  LensDistortion d;
-  d.center = {101.0, 74.0};
-  d.c3 = -4e-6;
-  d.r2max = 160.0 * 160.0;
-  b.distortion = d;
-  addPhoto(scene, b, testing::patternImage(200, 150, 2));
-  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
-           testing::patternImage(120, 120, 3));
+  addStreetPhotos(scene, "abc", 160.0);
 
   RenderSettings settings;
   settings.blend.k = 3;
   settings.blend.sigma = 5.0;
   settings.depthSize = 512;
-  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const Camera view = testing::streetView();
   // Global: the papers' weights; region with K = 3 of 3 candidates: the same picture.
   for (ibr::Selection selection : {ibr::Selection::Global, ibr::Selection::Region}) {
     settings.blend.selection = selection;
@@ -264,20 +230,14 @@ TEST_F(RendererGlTest, MatchesCpuReferenceAtSampledPixels) {
 // (ibr::correctTexel), clamping included; `colour-correction off` gives the photographs back.
 TEST_F(RendererGlTest, ColourCorrectionsMatchCpuReference) {
   Scene scene = testing::streetScene();
-  const glm::dvec3 o = kStreetOrigin;
-  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
-           testing::patternImage(160, 120, 1));
-  addPhoto(scene, testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150),
-           testing::patternImage(200, 150, 2));
-  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
-           testing::patternImage(120, 120, 3));
+  addStreetPhotos(scene, "abc");
   scene.photos[0].colour = {{0.8, 1.3, 1.0}, {0.05, -0.1, 0.0}};  // green clips at 1 on bright texels
   scene.photos[2].colour = {{1.1, 0.9, 0.6}, {0.0, 0.05, 0.2}};
   RenderSettings settings;
   settings.blend.k = 3;
   settings.blend.sigma = 5.0;
   settings.depthSize = 512;
-  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const Camera view = testing::streetView();
   compareWithReference(scene, settings, view, 3);
 
   // On and off: the corrections reach the parameters, and the picture changes.
@@ -302,23 +262,13 @@ TEST_F(RendererGlTest, ColourCorrectionsMatchCpuReference) {
 // the near building hides some of them from the far façade, others take their place per pixel.
 TEST_F(RendererGlTest, RegionSelectionMatchesCpuReferenceAtSampledPixels) {
   Scene scene = testing::streetScene();
-  const glm::dvec3 o = kStreetOrigin;
-  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
-           testing::patternImage(160, 120, 1));
-  addPhoto(scene, testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150),
-           testing::patternImage(200, 150, 2));
-  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
-           testing::patternImage(120, 120, 3));
-  addPhoto(scene, testing::lookAt("d", o + glm::dvec3(-14, -4, 2.5), o + glm::dvec3(0, 32, 9), 160, 120, 110),
-           testing::patternImage(160, 120, 4));
-  addPhoto(scene, testing::lookAt("e", o + glm::dvec3(0, -20, 4), o + glm::dvec3(0, 32, 9), 160, 120, 120),
-           testing::patternImage(160, 120, 5));
+  addStreetPhotos(scene, "abcde");
   RenderSettings settings;
   settings.blend.k = 2;
   settings.blend.sigma = 5.0;
   settings.depthSize = 512;
   settings.blend.selection = ibr::Selection::Region;
-  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const Camera view = testing::streetView();
   const int replaced = compareWithReference(scene, settings, view, 5);
   // Pixels where a nearer photograph fails a test and a farther one is blended in its place.
   EXPECT_GT(replaced, 20);
@@ -331,31 +281,19 @@ TEST_F(RendererGlTest, RegionSelectionMatchesCpuReferenceAtSampledPixels) {
 // mip levels, masks) against the CPU reference, alone and together, in both selections.
 TEST_F(RendererGlTest, GeometryWeightsAndFeatheringMatchCpuReference) {
   Scene scene = testing::streetScene();
-  const glm::dvec3 o = kStreetOrigin;
-  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
-           testing::patternImage(160, 120, 1));
-  Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
-  LensDistortion d;
-  d.center = {101.0, 74.0};
-  d.c3 = -4e-6;
-  d.r2max = 110.0 * 110.0;  // the lens domain cuts the corners: its edge is feathered too
-  b.distortion = d;
-  addPhoto(scene, b, testing::patternImage(200, 150, 2));
-  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
-           testing::patternImage(120, 120, 3));
+  // "b"'s lens domain: the lens domain cuts the corners: its edge is feathered too
+  addStreetPhotos(scene, "abc", 110.0);
   // A mask with a hole in the middle of d.
   Image8 mask(160, 120, 1, 255);
   for (int y = 40; y < 80; ++y)
     for (int x = 50; x < 110; ++x) mask.at(x, y, 0) = 0;
-  addPhoto(scene, testing::lookAt("d", o + glm::dvec3(-14, -4, 2.5), o + glm::dvec3(0, 32, 9), 160, 120, 110),
-           testing::patternImage(160, 120, 4), &mask);
-  addPhoto(scene, testing::lookAt("e", o + glm::dvec3(0, -20, 4), o + glm::dvec3(0, 32, 9), 160, 120, 120),
-           testing::patternImage(160, 120, 5));
+  addPhoto(scene, testing::streetPhotoCamera('d'), testing::patternImage(160, 120, 4), &mask);
+  addStreetPhotos(scene, "e");
   RenderSettings settings;
   settings.blend.k = 2;
   settings.blend.sigma = 5.0;
   settings.depthSize = 512;
-  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  const Camera view = testing::streetView();
   settings.blend.weighting = ibr::Weighting::Geometry;
   compareWithReference(scene, settings, view, 5);
   settings.blend.k = 3;

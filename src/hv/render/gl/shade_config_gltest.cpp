@@ -19,31 +19,13 @@
 namespace hv::render {
 namespace {
 
-using testing::glContext;
 using testing::kStreetOrigin;
 
-class ShadeConfigGlTest : public ::testing::Test {
+class ShadeConfigGlTest : public testing::PhotoGlTest {
  protected:
-  void SetUp() override {
-    glContext();
-    gpu::clearGlErrors();
-  }
   void TearDown() override {
     gl::setShadeSpecialisation(true);
-    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR)) << "a GL error was left behind";
-  }
-
-  void addPhoto(Scene& s, const Camera& cam, const Image8& image, const Image8* mask = nullptr) {
-    if (dir_.empty()) dir_ = testing::makeTempDir("shade_config");
-    Photo p;
-    p.camera = cam;
-    p.imagePath = dir_ + "/" + cam.id + ".png";
-    writePng(p.imagePath, image);
-    if (mask) {
-      p.maskPath = dir_ + "/" + cam.id + ".mask.png";
-      writePng(p.maskPath, *mask);
-    }
-    s.photos.push_back(p);
+    PhotoGlTest::TearDown();
   }
 
   // Renders `view` with the generic program and with the frame's own, and compares the pictures
@@ -72,32 +54,17 @@ class ShadeConfigGlTest : public ::testing::Test {
     for (size_t i = 0; i < own.counts.data.size(); ++i) differ += own.counts.data[i] != generic.counts.data[i];
     EXPECT_LE(differ, own.counts.data.size() / 200) << what;
   }
-
-  std::string dir_;
 };
 
 TEST_F(ShadeConfigGlTest, EveryOptionDrawsWhatTheGenericProgramDraws) {
   Scene scene = testing::streetScene();
-  const glm::dvec3 o = kStreetOrigin;
-  addPhoto(scene, testing::lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130),
-           testing::patternImage(160, 120, 1));
-  Camera b = testing::lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
-  LensDistortion d;
-  d.center = {101.0, 74.0};
-  d.c3 = -4e-6;
-  d.r2max = 110.0 * 110.0;
-  b.distortion = d;
-  addPhoto(scene, b, testing::patternImage(200, 150, 2));
-  addPhoto(scene, testing::lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100),
-           testing::patternImage(120, 120, 3));
+  addStreetPhotos(scene, "abc", 110.0);
   Image8 mask(160, 120, 1, 255);
   for (int y = 40; y < 80; ++y)
     for (int x = 50; x < 110; ++x) mask.at(x, y, 0) = 0;
-  addPhoto(scene, testing::lookAt("d", o + glm::dvec3(-14, -4, 2.5), o + glm::dvec3(0, 32, 9), 160, 120, 110),
-           testing::patternImage(160, 120, 4), &mask);
-  addPhoto(scene, testing::lookAt("e", o + glm::dvec3(0, -20, 4), o + glm::dvec3(0, 32, 9), 160, 120, 120),
-           testing::patternImage(160, 120, 5));
-  const Camera view = testing::lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+  addPhoto(scene, testing::streetPhotoCamera('d'), testing::patternImage(160, 120, 4), &mask);
+  addStreetPhotos(scene, "e");
+  const Camera view = testing::streetView();
   RenderSettings base;
   base.blend.sigma = 5.0;
   base.blend.k = 4;

@@ -7,6 +7,7 @@
 #include "hv/gpu/context.h"
 #include "hv/gpu/gl.h"
 #include "hv/image/image.h"
+#include "hv/image/native/png_write.h"
 #include "hv/io/cameras_json.h"
 #include "hv/io/native/scene_loader.h"
 #include "hv/scene/native/lod1.h"
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -110,6 +112,64 @@ inline Scene streetScene() {
   s.buildings.append(box("far", -15, 15, 30, 34, 20));
   return s;
 }
+
+// The street's photographs "a" to "e", each at its own place, size and focal length, all looking
+// up the street at the two buildings: "b"'s image is larger than the others, so that it sits
+// padded in its slice; "d" and "e" stand further left and further back.
+inline Camera streetPhotoCamera(char id) {
+  const glm::dvec3 o = kStreetOrigin;
+  switch (id) {
+    case 'a': return lookAt("a", o + glm::dvec3(-6, -12, 2), o + glm::dvec3(0, 30, 8), 160, 120, 130);
+    case 'b': return lookAt("b", o + glm::dvec3(4, -9, 1.7), o + glm::dvec3(-2, 32, 6), 200, 150, 150);
+    case 'c': return lookAt("c", o + glm::dvec3(12, -6, 3), o + glm::dvec3(0, 32, 10), 120, 120, 100);
+    case 'd': return lookAt("d", o + glm::dvec3(-14, -4, 2.5), o + glm::dvec3(0, 32, 9), 160, 120, 110);
+    case 'e': return lookAt("e", o + glm::dvec3(0, -20, 4), o + glm::dvec3(0, 32, 9), 160, 120, 120);
+    default: ADD_FAILURE() << "no street photograph '" << id << "'"; return {};
+  }
+}
+
+// The view the street tests render: among the photographs, looking up the street.
+inline Camera streetView() {
+  const glm::dvec3 o = kStreetOrigin;
+  return lookAt("v", o + glm::dvec3(1, -11, 2.2), o + glm::dvec3(0, 31, 9), 160, 120, 120);
+}
+
+// A GL test whose photographs are PNG files (and masks) in a temporary folder, as a scene on disk
+// names them.
+class PhotoGlTest : public GlTest {
+ protected:
+  void addPhoto(Scene& s, const Camera& cam, const Image8& image, const Image8* mask = nullptr) {
+    if (dir_.empty()) dir_ = makeTempDir("gl-photos");
+    Photo p;
+    p.camera = cam;
+    p.imagePath = dir_ + "/" + cam.id + ".png";
+    writePng(p.imagePath, image);
+    if (mask) {
+      p.maskPath = dir_ + "/" + cam.id + ".mask.png";
+      writePng(p.maskPath, *mask);
+    }
+    s.photos.push_back(p);
+  }
+
+  // Adds the street photographs `ids` (streetPhotoCamera), each with its own pattern (seed 1 for
+  // "a", 2 for "b", ...). With `distortionRadius` > 0, "b" has a radial distortion (centre off the
+  // image centre, c3 = -4e-6) whose domain reaches that many pixels from its centre.
+  void addStreetPhotos(Scene& s, std::string_view ids, double distortionRadius = 0.0) {
+    for (const char id : ids) {
+      Camera cam = streetPhotoCamera(id);
+      if (id == 'b' && distortionRadius > 0.0) {
+        LensDistortion d;
+        d.center = {101.0, 74.0};
+        d.c3 = -4e-6;
+        d.r2max = distortionRadius * distortionRadius;
+        cam.distortion = d;
+      }
+      addPhoto(s, cam, patternImage(cam.width, cam.height, id - 'a' + 1));
+    }
+  }
+
+  std::string dir_;
+};
 
 // The default demo city (with its lidar scan), generated once per test binary and shared by every
 // GL test that needs it: its loaded scene and held-out views (no images; the truth is in
