@@ -7,6 +7,7 @@
 #include "hv/io/native/colmap_cameras.h"
 #include "hv/io/native/itowns_cameras.h"
 #include "hv/io/native/scene_loader.h"
+#include "hv/testing/awkward_photos.h"
 #include "hv/testing/catalog_server.h"
 
 #include <gtest/gtest.h>
@@ -52,96 +53,14 @@ class CameraCatalogTest : public ::testing::Test {
 
 std::unique_ptr<testing::CatalogServer> CameraCatalogTest::server_;
 
-// Every field of a Photo, bit for bit (the doubles compared with ==, not a tolerance).
-void expectSamePhoto(const Photo& a, const Photo& b) {
-  const Camera &x = a.camera, &y = b.camera;
-  SCOPED_TRACE("camera '" + x.id + "'");
-  EXPECT_EQ(x.id, y.id);
-  EXPECT_EQ(x.width, y.width);
-  EXPECT_EQ(x.height, y.height);
-  EXPECT_EQ(x.center, y.center);
-  EXPECT_EQ(x.camFromWorld, y.camFromWorld);
-  EXPECT_EQ(x.focal, y.focal);
-  EXPECT_EQ(x.principal, y.principal);
-  EXPECT_EQ(x.skew, y.skew);
-  ASSERT_EQ(x.distortion.has_value(), y.distortion.has_value());
-  if (x.distortion) {
-    const LensDistortion &d = *x.distortion, &e = *y.distortion;
-    EXPECT_EQ(d.model, e.model);
-    EXPECT_EQ(d.center, e.center);
-    EXPECT_EQ(d.scale, e.scale);
-    EXPECT_EQ(d.c3, e.c3);
-    EXPECT_EQ(d.c5, e.c5);
-    EXPECT_EQ(d.c7, e.c7);
-    EXPECT_EQ(d.p1, e.p1);
-    EXPECT_EQ(d.p2, e.p2);
-    EXPECT_EQ(d.l1, e.l1);
-    EXPECT_EQ(d.l2, e.l2);
-    EXPECT_EQ(d.r2max, e.r2max);
-  }
-  EXPECT_EQ(a.imagePath, b.imagePath);
-  EXPECT_EQ(a.maskPath, b.maskPath);
-  EXPECT_EQ(a.date, b.date);
-  EXPECT_EQ(a.colour.gain, b.colour.gain);
-  EXPECT_EQ(a.colour.offset, b.colour.offset);
-}
-
-void expectSamePhotos(const std::vector<Photo>& a, const std::vector<Photo>& b) {
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) expectSamePhoto(a[i], b[i]);
-}
-
-// A camera with awkward doubles everywhere (none of them short in decimal), turned by an angle that
-// is not a multiple of anything.
-Photo awkwardPhoto(const std::string& id, int i) {
-  const double t = 0.1 + 0.7 * i;
-  Camera c = lookAtCamera(id, glm::dvec3(651234.123456789 + i / 3.0, 6861234.98765432 - i / 7.0, 35.3 + 1.0 / 3.0),
-                          glm::dvec3(651250.0 + std::sin(t), 6861240.0 + std::cos(t), 30.1), 1000 + i, 700 + i,
-                          812.3456789012345 + i / 9.0);
-  c.focal.y = c.focal.x * (1.0 + 1e-7);
-  c.principal += glm::dvec2(1.0 / 3.0, -2.0 / 7.0);
-  c.skew = 1e-9 / 3.0;
-  Photo p;
-  p.camera = c;
-  p.imagePath = "/photos/" + id + ".jpg";
-  return p;
-}
+using testing::awkwardPhoto;
+using testing::expectSamePhoto;
+using testing::expectSamePhotos;
 
 TEST_F(CameraCatalogTest, EveryFieldOfEveryLensModelRoundTrips) {
-  std::vector<Photo> photos;
-  for (int i = 0; i < 5; ++i) photos.push_back(awkwardPhoto("cam" + std::to_string(i), i));
-  // MicMac / Brédif 2013: a radial polynomial in pixels.
-  LensDistortion radial;
-  radial.center = {501.0 / 3.0, 349.9};
-  radial.c3 = 1.2345678901234e-8;
-  radial.c5 = -3.3e-15 / 7.0;
-  radial.c7 = 2e-22 / 3.0;
-  radial.r2max = 1234567.891;
-  photos[0].camera.distortion = radial;
-  // COLMAP / OpenCV: normalised by the focal lengths, tangential terms.
-  LensDistortion opencv;
-  opencv.center = photos[1].camera.principal;
-  opencv.scale = photos[1].camera.focal;
-  opencv.c3 = 0.1 / 3.0, opencv.c5 = -0.02, opencv.c7 = 1e-3 / 7.0, opencv.p1 = 1e-4 / 3.0, opencv.p2 = -2e-4 / 9.0;
-  photos[1].camera.distortion = opencv;
-  // iTowns: the equilinear fish-eye with its affine terms.
-  LensDistortion fisheye;
-  fisheye.model = LensDistortion::Model::Fisheye;
-  fisheye.center = {512.25, 384.75};
-  fisheye.scale = {600.0 / 7.0, 600.0 / 7.0};
-  fisheye.c3 = -0.01 / 3.0, fisheye.l1 = 1e-5 / 3.0, fisheye.l2 = -2e-5 / 7.0;
-  fisheye.r2max = 3.7;
-  photos[2].camera.distortion = fisheye;
-  // Dates at every precision, a mask, a colour correction, a name in another script.
-  photos[0].date = "1905";
-  photos[1].date = "1905-06";
-  photos[2].date = "1905-06-01T10:30:00+01:00";
+  // testing::awkwardPhotos: every lens model, dates, a mask, a colour correction, other scripts.
+  std::vector<Photo> photos = testing::awkwardPhotos();
   photos[3].date = "0500-02-28";  // before the Gregorian reform, after year 0
-  photos[1].maskPath = "/photos/masks/cam1.png";
-  photos[3].colour.gain = {1.1 / 3.0, 0.9, 1.0 + 1e-15};
-  photos[3].colour.offset = {-0.01 / 7.0, 0.0, 0.02};
-  photos[4].camera.id = "Île de la Cité, n° 4 — 照片";
-  photos[4].imagePath = "/photos/Île de la Cité 4.jpg";
 
   const CatalogWriteResult w = writeCameraCatalog(photos, "EPSG:2154", connection(), "round_trip");
   EXPECT_EQ(w.rows, photos.size());
@@ -323,7 +242,7 @@ TEST_F(CameraCatalogTest, BadConnectionsTablesAndRowsAreNamed) {
 
 TEST_F(CameraCatalogTest, ARowWithABadFieldIsNamedAndTheOthersLoad) {
   std::vector<Photo> photos;
-  for (int i = 0; i < 4; ++i) photos.push_back(awkwardPhoto("cam" + std::to_string(i), i));
+  for (int i = 0; i < 4; ++i) photos.push_back(awkwardPhoto(i));
   writeCameraCatalog(photos, "EPSG:2154", connection(), "broken");
   // Broken by hand, as another program writing the table might: a rotation of 2 numbers, a
   // reflection, an unknown lens model.

@@ -3,6 +3,7 @@
 // bit, and the same broken features left out for the same reasons.
 #include "hv/io/geojson_cameras.h"
 #include "hv/io/native/camera_catalog.h"
+#include "hv/testing/awkward_photos.h"
 
 #include <gtest/gtest.h>
 
@@ -22,38 +23,6 @@ std::string slurp(const fs::path& p) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-void expectIdentical(const Photo& a, const Photo& b) {
-  SCOPED_TRACE("camera '" + a.camera.id + "'");
-  EXPECT_EQ(a.camera.id, b.camera.id);
-  EXPECT_EQ(a.camera.width, b.camera.width);
-  EXPECT_EQ(a.camera.height, b.camera.height);
-  EXPECT_EQ(a.camera.center, b.camera.center);
-  EXPECT_EQ(a.camera.camFromWorld, b.camera.camFromWorld);
-  EXPECT_EQ(a.camera.focal, b.camera.focal);
-  EXPECT_EQ(a.camera.principal, b.camera.principal);
-  EXPECT_EQ(a.camera.skew, b.camera.skew);
-  ASSERT_EQ(a.camera.distortion.has_value(), b.camera.distortion.has_value());
-  if (a.camera.distortion) {
-    const LensDistortion &d = *a.camera.distortion, &e = *b.camera.distortion;
-    EXPECT_EQ(d.model, e.model);
-    EXPECT_EQ(d.center, e.center);
-    EXPECT_EQ(d.scale, e.scale);
-    EXPECT_EQ(d.c3, e.c3);
-    EXPECT_EQ(d.c5, e.c5);
-    EXPECT_EQ(d.c7, e.c7);
-    EXPECT_EQ(d.p1, e.p1);
-    EXPECT_EQ(d.p2, e.p2);
-    EXPECT_EQ(d.l1, e.l1);
-    EXPECT_EQ(d.l2, e.l2);
-    EXPECT_EQ(d.r2max, e.r2max);
-  }
-  EXPECT_EQ(a.imagePath, b.imagePath);
-  EXPECT_EQ(a.maskPath, b.maskPath);
-  EXPECT_EQ(a.date, b.date);
-  EXPECT_EQ(a.colour.gain, b.colour.gain);
-  EXPECT_EQ(a.colour.offset, b.colour.offset);
 }
 
 class GeoJsonCamerasMatchTest : public ::testing::Test {
@@ -113,7 +82,7 @@ TEST_F(GeoJsonCamerasMatchTest, ExportedLayerGivesTheNativeReadersCameras) {
   EXPECT_EQ(web.features, photos.size());
   ASSERT_EQ(native.photos.size(), photos.size());
   ASSERT_EQ(web.photos.size(), photos.size());
-  for (std::size_t i = 0; i < photos.size(); ++i) expectIdentical(native.photos[i], web.photos[i]);
+  for (std::size_t i = 0; i < photos.size(); ++i) testing::expectSamePhoto(native.photos[i], web.photos[i]);
 }
 
 // Arrays as JSON arrays and as PostgreSQL text, numbers as text, broken features: the same cameras
@@ -145,7 +114,7 @@ TEST_F(GeoJsonCamerasMatchTest, BrokenFeaturesAreLeftOutForTheSameReasons) {
   const GeoJsonCameraPage web = parseGeoJsonCameras(text, "http://host/wfs?page=0", webDiag);
   ASSERT_EQ(native.photos.size(), 2u);
   ASSERT_EQ(web.photos.size(), 2u);
-  for (std::size_t i = 0; i < 2; ++i) expectIdentical(native.photos[i], web.photos[i]);
+  for (std::size_t i = 0; i < 2; ++i) testing::expectSamePhoto(native.photos[i], web.photos[i]);
   EXPECT_EQ(web.photos[0].camera.center, glm::dvec3(10.5, 20.25, 30.125));
   EXPECT_EQ(web.photos[1].camera.id, "alsogood");
   ASSERT_EQ(nativeDiag.errors.size(), 6u);
