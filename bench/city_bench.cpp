@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -60,13 +61,15 @@ constexpr int kSteadyFrames = 5;            // batch frames per view once conver
 constexpr int kMaxProgressiveFrames = 400;  // per view, in case a view never converges
 constexpr double kMaxConvergeMs = 180e3;
 
-double hwmMiB() {  // this process image's peak RSS (VmHWM)
+double statusMiB(const char* key) {  // a /proc/self/status figure in kB, as MiB
   std::ifstream f("/proc/self/status");
   std::string line;
   while (std::getline(f, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;  // kB
+    if (line.rfind(key, 0) == 0) return std::atof(line.c_str() + std::strlen(key)) / 1024.0;
   return -1.0;
 }
+double hwmMiB() { return statusMiB("VmHWM:"); }  // this process image's peak RSS
+double rssMiB() { return statusMiB("VmRSS:"); }  // its resident set now
 
 void rule() { std::printf("%s\n", std::string(78, '-').c_str()); }
 
@@ -182,6 +185,7 @@ int childFirst(const std::string& dir, double minPixels) {
   hv::Diagnostics diag;
   hv::Scene scene;
   const Timing load = measure([&] { scene = hv::loadScene((fs::path(dir) / "scene.json").string(), diag); });
+  const double rssLoad = rssMiB();
   hv::CameraFileOptions vo;
   vo.requireImages = false;
   vo.checkImageFiles = false;
@@ -193,10 +197,13 @@ int childFirst(const std::string& dir, double minPixels) {
   hv::render::RenderSettings settings;
   if (minPixels >= 0.0) settings.buildingMinPixels = minPixels;
   const Timing setup = measure([&] { renderer = std::make_unique<hv::render::Renderer>(scene, settings, diag); });
+  const double rssSetup = rssMiB();
   const hv::Camera view = crop720p(views[0].camera);
   const Timing first = measure([&] { renderer->render(view, false, hv::render::FrameMode::Progressive); });
   const double total = msSince(start);
   const auto& st = renderer->stats();
+  std::printf("    RSS after load %.0f MiB, after the renderer %.0f MiB, after the first frame %.0f MiB (peak %.0f)\n",
+              rssLoad, rssSetup, rssMiB(), hwmMiB());
   std::printf(
       "%s: load %.0f ms (cpu %.0f), context %.0f (cpu %.0f), renderer %.0f (cpu %.0f), first frame %.0f "
       "(cpu %.0f): start to first frame %.0f ms; view tiles drawn %d, triangles %zu; load average %s\n",
@@ -205,10 +212,14 @@ int childFirst(const std::string& dir, double minPixels) {
   // The building tiles the views draw once converged (--building-min-pixels at `minPixels`).
   for (int v = 0; v < std::min(kViews, int(views.size())); ++v) {
     const hv::Camera c = crop720p(views[size_t(v)].camera);
-    renderer->render(c);
-    std::printf("    view %s: %d building tiles drawn, %lld triangles drawn, %d building tiles resident\n",
-                c.id.c_str(), renderer->stats().buildingViewTiles, (long long)renderer->stats().trianglesDrawn,
-                renderer->stats().buildingTilesResident);
+    const Timing t = measure([&] { renderer->render(c); });  // a batch frame: converged
+    const auto& s = renderer->stats();
+    std::printf(
+        "    view %s: converged %.0f ms (cpu %.0f), %d building tiles drawn, %lld triangles drawn, %d building tiles resident (%.0f MiB, "
+        "terrain %d tiles %.0f MiB, depth and image arrays %.0f MiB); RSS %.0f MiB, peak %.0f MiB\n",
+        c.id.c_str(), t.wall, t.cpu, s.buildingViewTiles, (long long)s.trianglesDrawn, s.buildingTilesResident,
+        double(s.buildingBytes) / (1 << 20), s.terrainTilesResident, double(s.terrainBytes) / (1 << 20),
+        double(s.sliceBytes) / (1 << 20), rssMiB(), hwmMiB());
   }
   return 0;
 }

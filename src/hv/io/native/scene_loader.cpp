@@ -548,7 +548,8 @@ bool cameraMaySee(const Camera& camera, const Aabb& box, double reach) {
 // read (docs/design.md, "Building tiles"); without, all of them.
 // A source with tiles that no photograph sees is also streamed per view (Scene::buildingTiles,
 // hv/render/building_stream.h), so that a view looking past the photographs still shows them.
-void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfield& dtm, Diagnostics& diag) {
+// `dtm` is taken: the streamed tiles keep it for their bases (shared, not copied).
+void loadBuildingTiles(Scene& scene, const PendingBuildings& b, Heightfield&& dtm, Diagnostics& diag) {
   const auto t0 = std::chrono::steady_clock::now();
   FootprintTileOptions options;
   options.perTile = kBuildingsPerTile;
@@ -625,7 +626,7 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, const Heightfiel
   try {
     const auto t1 = std::chrono::steady_clock::now();
     FootprintTileSource streamed;
-    std::shared_ptr<const Heightfield> base = dtm.empty() ? nullptr : std::make_shared<const Heightfield>(dtm);
+    std::shared_ptr<const Heightfield> base = dtm.empty() ? nullptr : std::make_shared<const Heightfield>(std::move(dtm));
     auto set = std::make_shared<BuildingTileSet>(
         *footprintTileSet(b.path, b.fields, b.georef, options, std::move(base), zlo, zhi, streamed, diag));
     // The tiles read above are not read again: the same grid (the same options), the same indices.
@@ -1074,7 +1075,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
 
   if (buildings) {
     try {
-      loadBuildingTiles(scene, *buildings, dtm, diag);
+      loadBuildingTiles(scene, *buildings, std::move(dtm), diag);
     } catch (const InputError& e) {
       scene.buildings = Mesh{};
       scene.buildingValidity.clear();

@@ -6,6 +6,26 @@
 
 namespace hv::render::gl {
 
+namespace {
+
+// A depth pass calls glFlush once it has handed the GL this many indices (a third as many
+// triangles) since the last one: in practice after every streamed building tile (7,500 triangles
+// on average in the 100k demo city). llvmpipe bins the triangles it is given until a flush: the
+// depth maps of the 100k city's ~560k triangles held ~180 MiB of bins at its peak RSS, and
+// flushing every tile took that peak from ~800 to ~690 MiB, flushing every 11k triangles only to
+// ~775 (docs/performance.md, "City scale"). The depths are the same: a flush only hands over the
+// work so far, in the same order.
+constexpr std::size_t kFlushIndices = 8192;
+
+void countAndFlush(std::size_t count, std::size_t& sinceFlush) {
+  sinceFlush += count;
+  if (sinceFlush < kFlushIndices) return;
+  glFlush();
+  sinceFlush = 0;
+}
+
+}  // namespace
+
 void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far,
                           const DateInterval& date, const std::vector<DrawRange>& draws,
                           const std::vector<std::uint64_t>& streamedTiles, double pushBack, glm::dvec3 centerRender) {
@@ -23,24 +43,28 @@ void GlBackend::drawDepth(const DepthProgram& program, const glm::dmat4& clip, d
   glDisable(GL_CULL_FACE);
   glClearDepthf(1.0f);
   glClear(GL_DEPTH_BUFFER_BIT);
-  if (indexCount_ > 0) drawRanges(draws);
+  std::size_t sinceFlush = 0;
+  if (indexCount_ > 0) drawRanges(draws, sinceFlush);
   for (const std::uint64_t id : streamedTiles) {
     const auto it = streamedTiles_.find(id);
     if (it == streamedTiles_.end() || it->second.indexCount == 0) continue;
     glBindVertexArray(it->second.vao.id());
     glDrawElements(GL_TRIANGLES, it->second.indexCount, GL_UNSIGNED_INT, nullptr);
+    countAndFlush(std::size_t(it->second.indexCount), sinceFlush);
   }
   glBindVertexArray(0);
   glDisable(GL_DEPTH_TEST);
 }
 
 // The index ranges the frame builder chose (the visible tiles of the layers that are on).
-void GlBackend::drawRanges(const std::vector<DrawRange>& draws) {
+void GlBackend::drawRanges(const std::vector<DrawRange>& draws, std::size_t& sinceFlush) {
   glBindVertexArray(meshVao_.id());
   for (const DrawRange& r : draws)
-    if (r.count > 0)
+    if (r.count > 0) {
       glDrawElements(GL_TRIANGLES, r.count, GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(std::uintptr_t(r.first) * sizeof(std::uint32_t)));
+      countAndFlush(std::size_t(r.count), sinceFlush);
+    }
   glBindVertexArray(0);
 }
 

@@ -93,7 +93,9 @@ class GlBackend final : public Backend {
   void drawDepth(const DepthProgram& program, const glm::dmat4& clip, double near, double far, const DateInterval& date,
                  const std::vector<DrawRange>& draws, const std::vector<std::uint64_t>& streamedTiles, double pushBack,
                  glm::dvec3 centerRender);
-  void drawRanges(const std::vector<DrawRange>& draws);
+  // Draws the ranges; `sinceFlush` counts the indices submitted since the last glFlush (flushed
+  // every kFlushIndices, see depth_pass.cpp).
+  void drawRanges(const std::vector<DrawRange>& draws, std::size_t& sinceFlush);
   void ensureViewTargets(glm::ivec2 depthSize, glm::ivec2 colorSize);
   void viewDepthPass(const Frame& f);
   // points_pass.cpp
