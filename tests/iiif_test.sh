@@ -234,6 +234,7 @@ for c in "${cases[@]}"; do
   url_re=$(sed 's/[][\.*^$?+(){}|]/\\&/g' <<<"${image%%\?*}")
   expect_out "fault $name names the camera and the URL" "camera '$id'.*$url_re"
   expect_out "fault $name says why" "$why"
+  expect_out "fault $name: render's summary names the missing photograph" "^missing: photograph \\($url_re"
   check "fault $name: the views still rendered" test "$(ls "$DIR/fault-$name"/*.png 2>/dev/null | wc -l)" -ge 2
 done
 

@@ -88,6 +88,8 @@ check "tolerance 200 px: $read_coarse of $tiles_all tiles, $n_coarse points" \
 run missing info "$city/missing.json"
 expect_clean missing 3
 expect_out missing "$URL/files/tiles-404/$gone: points tile: HTTP error code : 404 \\(tile root[^ ]* left out\\)"
+# ... and listed among what is missing (docs/services.md "What is missing"), by its URL.
+expect_out missing "^missing +point tile: $URL/files/tiles-404/$gone: points tile: HTTP error code : 404"
 n_missing=$(count "$out")
 check "a 404 tile left out, the rest loads: $n_missing of $n_las points" \
   test -n "$n_missing" -a "${n_missing:-0}" -gt 0 -a "${n_missing:-0}" -lt "${n_las:-0}"

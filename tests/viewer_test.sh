@@ -259,6 +259,28 @@ if ((rc != 0)) || [[ ! -s $DIR/viewer-panel.png ]]; then
 fi
 echo "the panel of the render settings: drawn, $(grep -o 'converged after [0-9]* frame(s)' "$DIR/view-panel.out")"
 
+# The panel's Sources section (src/hv/viewer/desktop/sources_panel.cpp) for a scene whose
+# buildings file is missing: drawn (open, with the panel in the screenshot) and its lines printed,
+# naming the buildings' path; the rest renders.
+python3 - "$city/scene.json" "$city/scene-missing.json" <<'PY'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["buildings"]["path"] = "none.geojson"
+json.dump(doc, open(sys.argv[2], "w"), indent=1)
+PY
+xvfb-run -a -s "-screen 0 1024x768x24" "$HV" view "$city/scene-missing.json" --views "$city/views.json" --camera "$id" \
+  --size 640x480 --screenshot "$DIR/viewer-missing.png" --screenshot-ui --exit-after-converge --frames 400 \
+  >"$DIR/view-missing.out" 2>&1
+rc=$?
+if ((rc != 0)) || [[ ! -s $DIR/viewer-missing.png ]] ||
+  ! grep -q "^viewer: sources: missing buildings: $city/none.geojson: " "$DIR/view-missing.out"; then
+  echo "FAIL: histoview view of a scene without its buildings file exited with $rc, or its Sources panel did not"
+  echo "list them ('viewer: sources: missing buildings: $city/none.geojson: ...'); output:"
+  tail -30 "$DIR/view-missing.out"
+  exit 1
+fi
+echo "the Sources panel: $(grep -m1 '^viewer: sources: missing' "$DIR/view-missing.out")"
+
 # Key taps shorter than a frame (src/hv/viewer/key_events.h): the viewer redraws every frame at
 # 1024x768 on a software renderer (frames of tens to hundreds of milliseconds) and F2 is tapped
 # three times, each held 12 ms. Read as key events, every tap is a screenshot, numbered without

@@ -153,6 +153,7 @@ int runFly(const FlyOptions& o) {
     std::cout << "\n";
   }
   std::cout << fetchedSummary();
+  if (const std::string m = s->scene.missing->summary(); !m.empty()) std::cout << m << "\n";
   const std::size_t missing = std::size_t(frames->size() - r.frames);
   const int code = exitStatus(diag, missing);
   if (!o.video.empty() && missing > 0) {

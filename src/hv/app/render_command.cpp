@@ -272,6 +272,8 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
     std::cout << "GL         unavailable: " << e.what() << "\n";
   }
   std::cout << fetchedSummary();
+  // What was asked for and could not be read (hv/scene/missing_sources.h), the orthophoto's included.
+  for (const std::string& line : scene.missing->lines()) std::cout << "missing    " << line << "\n";
   if (report.problems()) std::cout << report.problems() << " item(s) left out, listed above\n";
   return report.problems() ? kExitLeftOut : kExitOk;
 }
@@ -348,6 +350,7 @@ int runRender(const RenderOptions& o) {
   }
   std::cout << "wrote " << (s->views.size() - size_t(failed)) << " view(s) to " << o.out << "\n";
   std::cout << fetchedSummary();
+  if (const std::string missing = s->scene.missing->summary(); !missing.empty()) std::cout << missing << "\n";
   return exitStatus(diag, size_t(failed));
 }
 

@@ -59,9 +59,11 @@ BuildingCut BuildingStream::select(const Camera& camera, const glm::dmat4& clipF
   // The tiles the clip volume may see, nearest first: the budget goes to them first. A tile read
   // before (resident or not) by the box of its buildings, one never read by its box from the source.
   std::vector<std::pair<double, std::uint32_t>> seen;
+  const auto now = std::chrono::steady_clock::now();
   for (std::uint32_t t = 0; t < renderBoxes_.size(); ++t) {
     const Known& k = known_[t];
     if (k.broken || (k.read && k.empty)) continue;
+    if (k.failures > 0 && now < k.retryAt) continue;  // failed: not before its next try
     const glm::dvec3 lo = k.read ? glm::dvec3(k.lo) : renderBoxes_[t].lo;
     const glm::dvec3 hi = k.read ? glm::dvec3(k.hi) : renderBoxes_[t].hi;
     if (!k.read && renderBoxes_[t].empty()) continue;
@@ -159,7 +161,7 @@ BuildingTileMesh BuildingStream::read(std::uint32_t tile) const {
   } catch (const std::exception& e) {
     out = BuildingTileMesh{};
     out.tile = tile;
-    out.error = "building tile " + std::to_string(tile) + ": " + e.what();
+    out.error = tileName(tile) + ": " + e.what();
   }
   return out;
 }
@@ -199,9 +201,20 @@ std::vector<BuildingTileMesh> BuildingStream::collect(std::deque<BuildingTileMes
   std::vector<BuildingTileMesh> out;
   for (BuildingTileMesh& m : done) {
     Known& k = known_[m.tile];
+    m.attempt = k.failures + 1;
     if (!m.error.empty()) {
-      k.broken = true;
+      ++k.failures;
+      if (k.failures >= std::max(1, retry_.attempts)) {
+        k.broken = true;
+      } else {
+        // first x 2^(failures - 1), at most cap.
+        auto wait = retry_.first;
+        for (int i = 1; i < k.failures && wait < retry_.cap; ++i) wait *= 2;
+        k.retryAt = std::chrono::steady_clock::now() + std::min(wait, retry_.cap);
+        m.retrying = true;
+      }
     } else if (!resident_.count(m.tile)) {
+      k.failures = 0;
       k.read = true;
       k.empty = m.indices.empty();
       k.bytes = meshBytes(m);
@@ -251,6 +264,15 @@ bool BuildingStream::boxOf(std::uint32_t tile, glm::vec3& lo, glm::vec3& hi) con
 
 std::size_t BuildingStream::brokenTiles() const {
   return std::size_t(std::count_if(known_.begin(), known_.end(), [](const Known& k) { return k.broken; }));
+}
+
+std::size_t BuildingStream::retryingTiles() const {
+  return std::size_t(
+      std::count_if(known_.begin(), known_.end(), [](const Known& k) { return k.failures > 0 && !k.broken; }));
+}
+
+std::string BuildingStream::tileName(std::uint32_t tile) const {
+  return (set_->source.empty() ? std::string("buildings") : set_->source) + ": tile " + std::to_string(tile);
 }
 
 std::size_t BuildingStream::trianglesOf(std::uint32_t tile) const {

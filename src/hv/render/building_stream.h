@@ -21,8 +21,11 @@
 //   missing ones counted at their known bytes (none before their first read); the rest are left
 //   out (budgetLimited) and not requested. endFrame() evicts the least recently used
 //   tiles the frame did not use until the resident bytes (with the terrain's) fit.
-// - A tile that cannot be read (the source throws) is reported once by poll() and never asked
-//   for again.
+// - A tile that cannot be read (the source throws: a service answering 500, a connection reset)
+//   is reported by poll() with its attempt and asked for again after a back-off (RetryPolicy:
+//   `first`, doubled at each failure up to `cap`), while a camera still wants it; after `attempts`
+//   failures it is given up (reported so) and never asked for again. Until its next try it is not
+//   requested and not counted missing, so a batch frame does not wait for it.
 #pragma once
 
 #include "hv/camera/camera.h"
@@ -56,6 +59,15 @@ struct BuildingTileMesh {
   std::vector<glm::vec2> validity;    // .. + validity.size() - 1, their days (ibr::gpuDays)
   std::vector<std::string> warnings;  // the source's, for the caller to report
   std::string error;                  // non-empty: the tile could not be read, nothing else is set
+  int attempt = 1;                    // the how-manieth read of this tile this is
+  bool retrying = false;              // with `error`: it will be asked for again (RetryPolicy)
+};
+
+// When a building tile that failed is asked for again (BuildingStream, above).
+struct BuildingRetryPolicy {
+  std::chrono::milliseconds first{1000};  // the wait after the first failure
+  std::chrono::milliseconds cap{60000};   // the longest wait
+  int attempts = 6;                       // reads in all before the tile is given up
 };
 
 struct BuildingCut {
@@ -114,7 +126,12 @@ class BuildingStream {
   std::size_t peakBytes() const { return peakBytes_; }
   std::size_t memoryBudget() const { return budget_; }
   std::size_t evictions() const { return evictions_; }
-  std::size_t brokenTiles() const;
+  std::size_t brokenTiles() const;   // given up
+  std::size_t retryingTiles() const;  // failed, waiting for their next try
+  void setRetryPolicy(const BuildingRetryPolicy& p) { retry_ = p; }
+  const BuildingRetryPolicy& retryPolicy() const { return retry_; }
+  // "<source>: tile N" (BuildingTileSet::source), how a tile is named in the list of what is missing.
+  std::string tileName(std::uint32_t tile) const;
   int workerThreads() const { return queue_->workerThreads(); }
   // One past the largest building index given (the validity texture's size).
   std::uint32_t buildingIndexEnd() const { return indexEnd_; }
@@ -134,6 +151,8 @@ class BuildingStream {
   // (a tile the cameras do not see is not read again; the budget counts it before it arrives).
   struct Known {
     bool read = false, empty = false, broken = false;
+    int failures = 0;                                // reads that failed since the last success
+    std::chrono::steady_clock::time_point retryAt;  // with failures and not broken: not asked before
     glm::vec3 lo{0.0f}, hi{0.0f};
     std::size_t bytes = 0;
   };
@@ -158,6 +177,7 @@ class BuildingStream {
   std::size_t frameBytes_ = 0, reservedBytes_ = 0, residentBytes_ = 0, peakBytes_ = 0, evictions_ = 0;
   std::size_t residentBuildings_ = 0;
   std::uint64_t frame_ = 0;
+  BuildingRetryPolicy retry_;
 
   // Last: destroyed (its workers joined) before anything they read.
   std::unique_ptr<TileQueue<Job, BuildingTileMesh>> queue_;

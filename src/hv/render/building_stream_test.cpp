@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -351,6 +352,7 @@ TEST(BuildingStream, ABrokenTileIsReportedOnceAndNotAskedAgain) {
     return tileData(t);
   };
   BuildingStream s(set, kOrigin, 0, std::size_t(64) << 20);
+  s.setRetryPolicy({std::chrono::milliseconds(0), std::chrono::milliseconds(0), 1});  // one read, no retry
   std::vector<std::string> errors;
   for (int f = 0; f < 200; ++f) {
     s.beginFrame();
@@ -366,6 +368,81 @@ TEST(BuildingStream, ABrokenTileIsReportedOnceAndNotAskedAgain) {
   EXPECT_THROW(BuildingStream(nullptr, kOrigin, 0, 1), std::invalid_argument);
   EXPECT_THROW(BuildingStream(set, kOrigin, -1, 1), std::invalid_argument);
   EXPECT_THROW(BuildingStream(set, kOrigin, 0, 0), std::invalid_argument);
+}
+
+// A source that fails tile 0 its first `failures` reads (a service answering 500, then recovering).
+std::shared_ptr<BuildingTileSet> flakySet(int failures, std::shared_ptr<std::atomic<int>> reads) {
+  auto set = makeSet();
+  set->source = "WFS:http://127.0.0.1:1/buildings";
+  set->read = [reads, failures](std::uint32_t t) {
+    if (t == 0 && ++*reads <= failures) throw std::runtime_error("HTTP error code : 500");
+    return tileData(t);
+  };
+  return set;
+}
+
+// Frames until nothing is pending, the tiles' results handed to `sink`.
+void frames(BuildingStream& s, int n, const std::function<void(const BuildingTileMesh&)>& sink) {
+  for (int f = 0; f < n; ++f) {
+    s.beginFrame();
+    for (const BuildingTileMesh& m : s.poll()) sink(m);
+    s.select(lowWest().camera, lowWest().clip, 0.0);
+    s.endFrame();
+  }
+}
+
+TEST(BuildingStream, ATileThatFailedIsReadAgainAndArrives) {
+  auto reads = std::make_shared<std::atomic<int>>(0);
+  BuildingStream s(flakySet(2, reads), kOrigin, 0, std::size_t(64) << 20);
+  s.setRetryPolicy({std::chrono::milliseconds(0), std::chrono::milliseconds(0), 6});  // again at once
+  std::vector<BuildingTileMesh> tile0;
+  frames(s, 300, [&](const BuildingTileMesh& m) {
+    if (m.tile == 0) tile0.push_back(m);
+  });
+  ASSERT_EQ(tile0.size(), 3u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(tile0[size_t(i)].attempt, i + 1);
+    EXPECT_TRUE(tile0[size_t(i)].retrying);
+    EXPECT_EQ(tile0[size_t(i)].error, "WFS:http://127.0.0.1:1/buildings: tile 0: HTTP error code : 500");
+  }
+  EXPECT_TRUE(tile0[2].error.empty());
+  EXPECT_EQ(tile0[2].attempt, 3);
+  EXPECT_FALSE(tile0[2].indices.empty());
+  EXPECT_EQ(*reads, 3);
+  EXPECT_EQ(s.brokenTiles(), 0u);
+  EXPECT_EQ(s.retryingTiles(), 0u);
+  glm::vec3 lo, hi;
+  EXPECT_TRUE(s.boxOf(0, lo, hi));
+}
+
+TEST(BuildingStream, ATileFailingEveryTimeIsGivenUpAfterTheAttempts) {
+  auto reads = std::make_shared<std::atomic<int>>(0);
+  BuildingStream s(flakySet(1000, reads), kOrigin, 0, std::size_t(64) << 20);
+  s.setRetryPolicy({std::chrono::milliseconds(0), std::chrono::milliseconds(0), 3});
+  std::vector<BuildingTileMesh> tile0;
+  frames(s, 300, [&](const BuildingTileMesh& m) {
+    if (m.tile == 0) tile0.push_back(m);
+  });
+  ASSERT_EQ(tile0.size(), 3u);
+  EXPECT_EQ(*reads, 3);
+  EXPECT_TRUE(tile0[0].retrying);
+  EXPECT_TRUE(tile0[1].retrying);
+  EXPECT_FALSE(tile0[2].retrying) << "the last try is given up";
+  EXPECT_EQ(s.brokenTiles(), 1u);
+  EXPECT_EQ(s.retryingTiles(), 0u);
+}
+
+TEST(BuildingStream, ATileWaitingForItsNextTryIsNeitherAskedNorWaitedFor) {
+  auto reads = std::make_shared<std::atomic<int>>(0);
+  BuildingStream s(flakySet(1, reads), kOrigin, 0, std::size_t(64) << 20);
+  s.setRetryPolicy({std::chrono::hours(1), std::chrono::hours(2), 6});  // not again within the test
+  int errors = 0;
+  frames(s, 300, [&](const BuildingTileMesh& m) { errors += !m.error.empty(); });
+  EXPECT_EQ(errors, 1);
+  EXPECT_EQ(*reads, 1);
+  EXPECT_EQ(s.retryingTiles(), 1u);
+  EXPECT_EQ(s.brokenTiles(), 0u);
+  EXPECT_EQ(s.pendingTiles(), 0u);
 }
 
 }  // namespace

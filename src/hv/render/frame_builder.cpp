@@ -133,6 +133,7 @@ void FrameBuilder::install(ibr::LoadResult&& r, bool neededNow) {
   const Photo& p = scene_.photos[size_t(r.photo)];
   if (!r.ok()) {
     diag_.error(r.error + " (camera '" + p.camera.id + "' skipped)");
+    if (scene_.missing) scene_.missing->add({"photograph", p.imagePath, r.error});
     photoBroken_[size_t(r.photo)] = true;
     return;
   }

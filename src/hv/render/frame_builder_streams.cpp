@@ -108,10 +108,16 @@ void FrameBuilder::streamBuildings(Frame& f, int debugSlot) {
   if (!buildings_) return;
   auto install = [&](BuildingTileMesh&& m) {
     for (const std::string& w : m.warnings) diag_.warn(w);
+    // What is missing (hv/scene/missing_sources.h): a tile that failed, named, until it arrives.
+    const std::string name = buildings_->tileName(m.tile);
     if (!m.error.empty()) {
-      diag_.error(m.error + " (its buildings left out)");
+      diag_.error(m.error + (m.retrying ? " (its buildings left out until it is read again, try " +
+                                              std::to_string(m.attempt) + ")"
+                                        : " (its buildings left out)"));
+      if (scene_.missing) scene_.missing->add({"building tile", name, m.error, m.retrying, m.attempt});
       return;
     }
+    if (m.attempt > 1 && scene_.missing) scene_.missing->resolve("building tile", name);
     if (m.indices.empty()) return;  // a tile without buildings is never drawn
     backend_.uploadStreamedTile(kBuildingTileId | m.tile, m.vertices, m.indices);
     setBuildingValidity(m.firstBuilding, m.validity);
@@ -155,6 +161,8 @@ void FrameBuilder::streamBuildings(Frame& f, int debugSlot) {
   stats_.streamingBuildings = true;
   stats_.buildingTilesResident = int(buildings_->residentTiles());
   stats_.buildingTilesPending = int(buildings_->pendingTiles());
+  stats_.buildingTilesRetrying = int(buildings_->retryingTiles());
+  stats_.buildingTilesGivenUp = int(buildings_->brokenTiles());
   stats_.buildingsResident = buildings_->residentBuildings();
   stats_.buildingBytes = buildings_->residentBytes();
   stats_.buildingPeakBytes = buildings_->peakBytes();

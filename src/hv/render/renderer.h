@@ -78,6 +78,8 @@ struct RenderStats {
   // in the same budget as the terrain's (geometryMemoryBytes).
   int buildingTilesResident = 0;
   int buildingTilesPending = 0;
+  int buildingTilesRetrying = 0;  // failed, waiting for their next try (BuildingRetryPolicy)
+  int buildingTilesGivenUp = 0;   // failed as many times as the policy allows
   std::size_t buildingsResident = 0;
   std::size_t buildingBytes = 0, buildingPeakBytes = 0;
   std::size_t buildingEvictions = 0;

@@ -35,6 +35,8 @@ struct BuildingTileSet {
   // Reads and extrudes one tile (0 .. boxes.size() - 1). Called from worker threads, several at a
   // time: must be thread-safe. Throws (InputError naming the file) when the tile cannot be read.
   std::function<BuildingTileData(std::uint32_t tile)> read;
+  // Where the tiles come from (the path or URL scene.json names), to name a tile that failed.
+  std::string source;
 };
 
 }  // namespace hv

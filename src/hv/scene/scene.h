@@ -5,6 +5,7 @@
 #pragma once
 
 #include "hv/camera/camera.h"
+#include "hv/scene/missing_sources.h"
 #include "hv/scene/point_cloud.h"
 #include "hv/scene/mesh.h"
 #include "hv/util/dates.h"
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hv {
@@ -96,6 +98,7 @@ struct Scene {
     std::size_t tilesRead = 0;       // point tiles fetched and parsed
     std::size_t tilesKept = 0;       // of which in the cloud (a REPLACE-refined parent is not)
     std::size_t tilesFailed = 0;     // named and left out
+    std::vector<std::pair<std::string, std::string>> failed;  // per tile left out: its URL, the message
     std::uint64_t bytes = 0;         // fetched: the tileset JSON and the tiles
     bool budgetLimited = false;      // a refinement was refused for the point budget
   } pointTilesInfo;
@@ -112,6 +115,9 @@ struct Scene {
   // none; `trafficPath` the file they were read from.
   std::shared_ptr<const Trajectories> traffic;
   std::string trafficPath;
+  // What was asked for and could not be read (hv/scene/missing_sources.h): filled by the loader
+  // and, while frames render, by the streaming parts. Shared by copies of the scene; thread-safe.
+  std::shared_ptr<MissingSources> missing = std::make_shared<MissingSources>();
 
   Aabb bounds() const;  // geometry and camera centres
   // Median distance from each camera centre to its nearest other centre: the scene's own scale

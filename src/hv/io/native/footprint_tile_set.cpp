@@ -47,6 +47,7 @@ std::shared_ptr<const BuildingTileSet> footprintTileSet(const std::string& path,
                                                         std::shared_ptr<const Heightfield> dtm, double zlo, double zhi,
                                                         FootprintTileSource& info, Diagnostics& diag) {
   auto set = std::make_shared<BuildingTileSet>();
+  set->source = path;
   // First the grid: every tile's box, nothing read through a spatial filter.
   FootprintTileOptions grid = options;
   grid.wanted = [&](glm::dvec2 lo, glm::dvec2 hi) {

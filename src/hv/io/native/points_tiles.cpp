@@ -137,6 +137,7 @@ PointCloud loadPointTileset(const PointTilesetRequest& request, const std::vecto
       ts.tiles[std::size_t(t)].external = false;
       ++info.tilesFailed;
       diag.error(std::string(e.what()) + " (tile " + path + " left out)");
+      info.failed.push_back({url, e.what()});
     }
   };
   // The tiles that stand for `t` when it is drawn: itself when it has content, else (an empty
@@ -179,6 +180,7 @@ PointCloud loadPointTileset(const PointTilesetRequest& request, const std::vecto
       if (!got[k].points) {
         ++info.tilesFailed;
         diag.error(got[k].error);
+        info.failed.push_back({ts.tiles[std::size_t(tiles[k])].content, got[k].error});
       } else {
         total += got[k].points->size();
         selected[tiles[k]] = std::move(*got[k].points);

@@ -20,6 +20,7 @@
 #include "hv/io/native/points_tiles.h"
 #include "hv/io/native/raster.h"
 #include "hv/io/native/remote.h"
+#include "hv/io/native/scene_missing.h"
 #include "hv/io/native/sumo_fcd.h"
 #include "hv/io/native/terrain_raster.h"
 #include "hv/scene/chunks.h"
@@ -60,7 +61,7 @@ using nlohmann::json;
 // slice's width; hv/util/image_sizes.h). A description that cannot be read, or whose image has another aspect ratio
 // than the camera's, leaves that photograph out, named. The descriptions are fetched a few at a time (through the
 // response cache).
-void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
+void resolveIiifImages(std::vector<Photo>& photos, MissingSources& missing, Diagnostics& diag) {
   std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < photos.size(); ++i)
     if (isIiifInfoUrl(photos[i].imagePath)) pending.push_back(i);
@@ -95,6 +96,7 @@ void resolveIiifImages(std::vector<Photo>& photos, Diagnostics& diag) {
         registerImageSizes(request.url, std::move(sizes));
       } catch (const std::exception& e) {
         errors[pending[k]] = inputMessage("camera '" + p.camera.id + "'", "image", e.what()) + " (photograph left out)";
+        missing.add({"photograph", url, e.what()});
       }
     }
   };
@@ -330,6 +332,7 @@ void loadPointTilesetIntoScene(Scene& scene, const PointTilesetRequest& request,
     std::vector<Camera> cameras;
     for (const Photo& p : scene.photos) cameras.push_back(p.camera);
     scene.points = loadPointTileset(request, cameras, diag, &scene.pointTilesInfo);
+    for (const auto& [url, message] : scene.pointTilesInfo.failed) noteMissing(scene, "point tile", url, message);
     if (!scene.crs.empty()) georeferencePoints(scene.points, request.georef, request.url, diag);
     recordSource(scene, "points", scene.points.crs);
     organizeChunks(scene.points);
@@ -340,6 +343,7 @@ void loadPointTilesetIntoScene(Scene& scene, const PointTilesetRequest& request,
   } catch (const InputError& e) {
     scene.points = PointCloud{};
     diag.error(std::string(e.what()) + " (points left out)");
+    noteMissing(scene, "points", request.url, e.what());
   }
 }
 
@@ -768,6 +772,7 @@ std::shared_ptr<const Orthophoto> loadOrthophoto(const Scene& scene, Diagnostics
     return readSceneOrthophoto(scene, doc, dir, path, diag);
   } catch (const InputError& e) {
     diag.warn(std::string(e.what()) + " (orthophoto left out: untextured terrain shaded)");
+    noteMissing(scene, "orthophoto", sourceLocation(doc, "orthophoto", dir), e.what());
     return nullptr;
   }
 }
@@ -855,6 +860,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
     } catch (const InputError& e) {
       scene.terrainTiles.reset();
       diag.error(std::string(e.what()) + " (terrain left out)");
+      noteMissing(scene, "terrain", sourceLocation(doc, "terrain", dir), e.what());
     }
   }
   // Buildings are read once the cameras are known (below): only the tiles the photographs see.
@@ -896,6 +902,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (buildings left out)");
+      noteMissing(scene, "buildings", sourceLocation(doc, "buildings", dir), e.what());
     }
   }
   if (geometry && doc.contains("mesh")) {
@@ -912,6 +919,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       scene.mesh = std::move(mesh);
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (mesh left out)");
+      noteMissing(scene, "mesh", sourceLocation(doc, "mesh", dir), e.what());
     }
   }
   // A 3D Tiles tileset is read once the cameras are known (below); a point file now.
@@ -923,6 +931,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
     } catch (const InputError& e) {
       pointsRefused = true;
       diag.error(std::string(e.what()) + " (points left out)");
+      noteMissing(scene, "points", sourceLocation(doc, "points", dir), e.what());
     }
   }
   if (geometry && doc.contains("points") && !pointTileset && !pointsRefused) {
@@ -942,6 +951,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
     } catch (const InputError& e) {
       scene.points = PointCloud{};
       diag.error(std::string(e.what()) + " (points left out)");
+      noteMissing(scene, "points", sourceLocation(doc, "points", dir), e.what());
     }
   }
   if (doc.contains("cameras")) {
@@ -1019,7 +1029,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
             path + ": cameras.format: expected \"native\", \"itowns\", \"colmap\", \"micmac\" or \"ogr\", got \"" +
             format + "\"");
       }
-      resolveIiifImages(scene.photos, diag);
+      resolveIiifImages(scene.photos, *scene.missing, diag);
       // Georeferencing: the cameras' CRS (cameras.crs, or the format's own: MicMac's centres are
       // ECEF) into the scene frame; without a scene CRS, the cameras' CRS is the scene's.
       if (c.contains("crs") && !c["crs"].is_string())
@@ -1035,6 +1045,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       }
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (cameras left out)");
+      noteMissing(scene, "cameras", sourceLocation(doc, "cameras", dir), e.what());
     }
   }
 
@@ -1051,6 +1062,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       applyColourCorrections(scene.photos, readColourCorrections(scene.colourPath, diag), scene.colourPath, diag);
     } catch (const InputError& e) {
       diag.error(std::string(e.what()) + " (colour corrections left out)");
+      noteMissing(scene, "colour corrections", scene.colourPath, e.what());
     }
   }
 
@@ -1060,6 +1072,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
     } catch (const InputError& e) {
       scene.traffic.reset();
       diag.error(std::string(e.what()) + " (traffic left out)");
+      noteMissing(scene, "traffic", sourceLocation(doc, "traffic", dir), e.what());
     }
   }
 
@@ -1070,6 +1083,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       scene.terrainTiles.reset();
       scene.terrain = Mesh{};
       diag.error(std::string(e.what()) + " (terrain left out)");
+      noteMissing(scene, "terrain", sourceLocation(doc, "terrain", dir), e.what());
     }
   }
 
@@ -1081,6 +1095,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       scene.buildingValidity.clear();
       scene.tileOfBuilding.clear();
       diag.error(std::string(e.what()) + " (buildings left out)");
+      noteMissing(scene, "buildings", sourceLocation(doc, "buildings", dir), e.what());
     }
   }
   if (groundHeight) makeGroundPlane(scene, *groundHeight, path, diag);

@@ -16,6 +16,7 @@
 #include "hv/viewer/desktop/map_panel.h"
 #include "hv/viewer/desktop/pose_panel.h"
 #include "hv/viewer/desktop/settings_panel.h"
+#include "hv/viewer/desktop/sources_panel.h"
 #include "hv/viewer/desktop/timeline_panel.h"
 #include "hv/viewer/desktop/traffic_panel.h"
 #include "hv/viewer/key_events.h"
@@ -480,6 +481,7 @@ class Viewer {
     ImGui::Text("%s  %s  %d waiting", nav_->mode() == Mode::Walk ? "walking" : "flying",
                 renderer_->converged() ? "converged" : "refining", st.imagesWaiting);
     if (!panel_.message.empty()) ImGui::TextWrapped("%s", panel_.message.c_str());
+    sources_.draw();
 
     if (ImGui::CollapsingHeader("Navigation")) {
       int mode = nav_->mode() == Mode::Walk;
@@ -698,7 +700,10 @@ class Viewer {
       // Progressive rendering: reduced resolution while moving, full once still; frames go on
       // until every selected image is resident with a current depth map.
       const double scale = moved && haveFrame ? movingScale_ : 1.0;
-      const bool needRender = moved || settingsChanged_ || !renderer_->converged() || renderedScale != scale || o_.redraw;
+      // A building tile that failed is read again after a back-off: frames keep coming (at the idle
+      // poll's pace) while one waits, so that its next try is made.
+      const bool needRender = moved || settingsChanged_ || !renderer_->converged() || renderedScale != scale ||
+                              o_.redraw || renderer_->stats().buildingTilesRetrying > 0;
       Camera view = cam;
       if (scale < 1.0) {
         const int w = std::max(16, int(std::lround(cam.width * scale))), h = std::max(16, int(std::lround(cam.height * scale)));
@@ -720,6 +725,7 @@ class Viewer {
       glClear(GL_COLOR_BUFFER_BIT);
       // The picture, or the debug view the renderer drew in its place.
       if (renderer_->colorTexture()) presenter_->blitFlipped(renderer_->colorTexture(), renderedSize_, fb);
+      sources_.update(session_->scene, *renderer_);
 
       const bool converged =
           renderer_->converged() && renderedScale == 1.0 && !focusPath_ && !timeline_->player().playing();
@@ -806,6 +812,7 @@ class Viewer {
   Clock::time_point focusStart_;
   PanelState panel_;
   SettingsPanel settingsPanel_;
+  SourcesPanel sources_;
   std::unique_ptr<TimelinePanel> timeline_;
   std::unique_ptr<PosePanel> pose_;
   bool poseScriptFailed_ = false;

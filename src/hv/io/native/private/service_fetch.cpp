@@ -5,6 +5,7 @@
 #include <cpl_string.h>
 
 #include "hv/io/native/remote.h"
+#include "hv/util/load_progress.h"
 #include "hv/util/log.h"
 
 #include <algorithm>
@@ -143,6 +144,7 @@ void ServiceProgress::response(const std::string& url, std::uint64_t bytes, bool
   line += requestName(url) + ", " + sizeText(bytes) + (fromCache ? " from the cache" : "");
   if (features_ > 0 || tileN_ > 0) line += " (" + std::to_string(features_) + " features so far)";
   log::info(line);
+  recordLoadProgress(what_, source_, bytes, fromCache, line);
 }
 
 DirectFetch::DirectFetch() : previous_(tDirect) { tDirect = true; }
