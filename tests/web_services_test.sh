@@ -150,7 +150,7 @@ PY
 nquery="$query&traffic=false"
 npquery="$pquery&traffic=false"
 timeout -k 5 400 node tests/web/web_services_nofiles_test.mjs "$DIR" "$page?$nquery" "$page?scene=../services-nofiles.json&$nquery" \
-  "$page?$npquery" "$page?scene=../services-nofiles-points.json&$npquery" "$page?scene=../services-missing.json&$nquery" \
+  "$page?scene=services-points.json&$npquery" "$page?scene=../services-nofiles-points.json&$npquery" "$page?scene=../services-missing.json&$nquery" \
   >"$DIR/node-nofiles.out" 2>&1
 node_rc=$?
 cat "$DIR/node-nofiles.out"
