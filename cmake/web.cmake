@@ -42,6 +42,7 @@ hv_define_modules()
 get_property(HV_MODULES GLOBAL PROPERTY HV_MODULES)
 
 add_executable(histoview_web ${CMAKE_SOURCE_DIR}/apps/web/hv_web.cpp ${CMAKE_SOURCE_DIR}/apps/web/web_services.cpp ${CMAKE_SOURCE_DIR}/apps/web/hv_web_tiles.cpp
+               ${CMAKE_SOURCE_DIR}/apps/web/hv_web_frame.cpp
                ${CMAKE_SOURCE_DIR}/apps/web/stb_impl.cpp)
 target_compile_options(histoview_web PRIVATE ${HV_WARNINGS})
 target_link_libraries(histoview_web PRIVATE hv_ext_stb)

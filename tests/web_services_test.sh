@@ -116,6 +116,60 @@ node_rc=$?
 cat "$DIR/node-layers.out"
 ((node_rc == 0)) && pass "the browser test of the layers (node exit code 0)" || fail "the browser test of the layers: exit code $node_rc"
 
+# --- a description without "files" (tests/web/web_services_nofiles_test.mjs): no web export at
+# all; the terrain meshed from the WCS grid in the module, the cameras, photographs and held-out
+# views by URL from outside the export's folder, the CRS as a PROJ string (`histoview info` prints
+# it) for the page's EPSG:4978 fit of the tileset's points. The photographs are the export's JPEGs
+# copied into the city's folder (the demo's own PNGs differ from them by the JPEG re-encoding: the
+# picture would then differ by that, not by the scene).
+proj=$("$HV" info "$city/scene.json" 2>/dev/null | sed -n 's/^  proj4 *//p' | head -1)
+[[ -n $proj ]] || fail "histoview info prints the scene CRS as a PROJ string"
+python3 - "$city" "$URL" "$proj" <<'PY'
+import json, sys
+import os, shutil
+city, url, proj = sys.argv[1:4]
+cams = json.load(open(city + "/web/cameras.json"))
+for c in cams["cameras"]:
+    for key in ("image", "mask"):
+        if key in c:
+            os.makedirs(os.path.dirname(f"{city}/photographs/{c[key]}"), exist_ok=True)
+            shutil.copy(f"{city}/web/{c[key]}", f"{city}/photographs/{c[key]}")
+            c[key] = "photographs/" + c[key]
+json.dump(cams, open(city + "/cameras-photographs.json", "w"))
+d = {"format": "histoview-services", "version": 1, "crs": "EPSG:2154", "projection": proj, "views": "views.json",
+     "terrain": {"path": f"WCS:{url}/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm"},
+     "buildings": {"path": f"WFS:{url}/mapserv?map=city&TYPENAME=ms:buildings", "height": "height"},
+     "cameras": {"path": "cameras-photographs.json"}}
+json.dump(d, open(city + "/services-nofiles.json", "w"))
+json.dump(dict(d, points={"path": f"{url}/files/tiles/tileset.json", "tolerance": 0}),
+          open(city + "/services-nofiles-points.json", "w"))
+json.dump(dict(d, terrain={"path": f"WCS:{url}/files/no-such-wcs?map=city&COVERAGEID=dtm"},
+               cameras={"path": f"{url}/files/no-such-cameras.json"}), open(city + "/services-missing.json", "w"))
+PY
+# The traffic off: the description names no traffic (the page does not read one from services).
+nquery="$query&traffic=false"
+npquery="$pquery&traffic=false"
+timeout -k 5 400 node tests/web/web_services_nofiles_test.mjs "$DIR" "$page?$nquery" "$page?scene=../services-nofiles.json&$nquery" \
+  "$page?scene=services-points.json&$npquery" "$page?scene=../services-nofiles-points.json&$npquery" "$page?scene=../services-missing.json&$nquery" \
+  >"$DIR/node-nofiles.out" 2>&1
+node_rc=$?
+cat "$DIR/node-nofiles.out"
+((node_rc == 0)) && pass "the browser test without an export (node exit code 0)" ||
+  fail "the browser test without an export: exit code $node_rc"
+kill -HUP "$(cat "$state/lighttpd.pid")" 2>/dev/null; sleep 1  # lighttpd writes its buffered log out
+# Every request the page without an export made (its Referer), in lighttpd's log: the services,
+# the demo's own files and the page's files, none of the export's.
+check "lighttpd's log: the page without an export fetched no export file" python3 - "$state/access.log" <<'PY'
+import re, sys
+lines = [l for l in open(sys.argv[1]) if "scene=../services-nofiles" in l]
+asked = [re.search(r'"GET ([^ ]+)', l).group(1) for l in lines if '"GET ' in l]
+export = [a for a in asked if a.startswith("/files/web/") and
+          not re.match(r"/files/web/(index\.html|[a-z0-9_]+\.js|histoview\.css|histoview_web\.wasm)(\?|$)", a)]
+print("      ", len(asked), "requests;", "export files:", export[:5])
+ok = asked and not export and any("GetCoverage" in a for a in asked) and any("/files/photographs/" in a for a in asked)
+sys.exit(0 if ok else 1)
+PY
+
 # The stack saw the requests: the WFS pages as GeoJSON in the scene's CRS, the WCS as text.
 log=$state/access.log
 check "lighttpd's log: the tileset and its pnts tiles" grep -q 'GET /files/tiles/r[^ ]*\.pnts' "$log"

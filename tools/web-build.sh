@@ -27,4 +27,17 @@ if [[ ! -f build-web/CMakeCache.txt ]]; then
   emcmake cmake -S . -B build-web -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
 fi
 cmake --build build-web -j"${HV_JOBS:-$(nproc)}" -- -k 0
+# proj4js for the page (docs/services.md, "In the browser": the EPSG:4978 fit of a service scene
+# without a web export), pinned in tools/web-deps/package.json, installed once (again only when the
+# pinned version changes) and copied beside the module; web-export copies it with the page. Without
+# npm or the registry the page still works: such a scene's earth-centred points then need "files".
+deps=tools/web-deps
+want=$(sed -n 's/.*"proj4": "\([^"]*\)".*/\1/p' $deps/package.json)
+have=$(sed -n 's/^ *"version": "\([^"]*\)".*/\1/p' $deps/node_modules/proj4/package.json 2>/dev/null | head -1)
+if [[ $have != "$want" ]] && command -v npm >/dev/null; then
+  (cd $deps && npm ci --no-audit --no-fund >/dev/null) || echo "web-build: proj4 $want not installed (npm failed)" >&2
+fi
+if [[ -f $deps/node_modules/proj4/dist/proj4.js ]]; then
+  cp $deps/node_modules/proj4/dist/proj4.js build-web/dist/proj4.js
+fi
 ls -l build-web/dist/histoview_web.js build-web/dist/histoview_web.wasm

@@ -102,11 +102,11 @@
     setProgress(0, 'loading the scene…');
     // Where the export's files and the photographs come from: beside the page, or for a service
     // scene (?scene=URL) where its description says.
-    let sceneBase = location.href, photoBase = location.href, manifest;
+    let sceneBase = location.href, photoBase = location.href, viewsUrl = null, manifest;
     if (params.get('scene')) {
       const s = await window.hvServices.loadServiceScene(new URL(params.get('scene'), location.href).href, put,
                                                          { Module, root: ROOT });
-      ({ manifest, sceneBase, photoBase } = s);
+      ({ manifest, sceneBase, photoBase, viewsUrl } = s);
       hv.services = s.info;
       (s.info.errors || []).forEach(showError);
     } else {
@@ -131,7 +131,7 @@
     await Promise.all(sceneFiles.filter((f) => !hv.services || (f !== manifest.cameras && !(hv.services.local || []).includes(f)))
       .map(async (f) => put(f, await fetchBytes(fromScene(f), sceneProgress))));
     let haveViews = false;
-    try { put('views.json', await fetchBytes(fromScene('views.json'))); haveViews = true; } catch (e) { /* optional */ }
+    try { put('views.json', await fetchBytes(viewsUrl || fromScene('views.json'))); haveViews = true; } catch (e) { /* optional */ }
 
     const viewer = hv.viewer = new Module.WebViewer('#view');
     if (viewer.error()) throw new Error(viewer.error());

@@ -7,7 +7,9 @@
 window.hvServices = (() => {
   // A service scene (docs/services.md, "In the browser"). The description, a JSON object:
   //   {"format": "histoview-services", "version": 1, "crs": "EPSG:2154",
-  //    "files": "scene_web.json",                       (a web export: origin, terrain, points, traffic)
+  //    "files": "scene_web.json",  (optional: a web export's manifest for origin, terrain, points, traffic;
+  //                                 without it the module makes them from the services, services_frame.js)
+  //    "views": "views.json",      (optional: held-out views, for ?camera=)
   //    "terrain": {"path": "WCS:http://…/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm"},
   //    "buildings": {"path": "WFS:http://…/mapserv?map=city&TYPENAME=ms:buildings", "height": "height"},
   //    "cameras": {"path": "http://…/cameras.json"}}
@@ -39,71 +41,92 @@ window.hvServices = (() => {
     throw new Error('the WCS answer has no text/plain part (expected the coverage as an ESRI ASCII grid)');
   }
   const servicePath = (source, what, prefix) => {
-    if (!source || typeof source.path !== 'string') throw new Error(what + ': expected {"path": "' + prefix + 'http://…"}');
+    if (!source || typeof source.path !== 'string') throw new Error(what + ' {"path": "' + prefix + 'http://…"}');
     return source.path;
   };
   async function loadServiceScene(descUrl, put, ctx) {
     const desc = JSON.parse((await fetchText(descUrl)).text);
     if (desc.format !== 'histoview-services') throw new Error(descUrl + ': not a service scene ("format": "histoview-services" expected)');
-    const info = { description: descUrl, featurePages: 0, features: 0, requests: [] };
-    const sceneBase = new URL(desc.files || 'scene_web.json', descUrl).href;
-    const manifest = JSON.parse((await fetchText(sceneBase)).text);
-    manifest.meshes = manifest.meshes.filter((m) => m.name !== 'buildings');
+    const info = { description: descUrl, featurePages: 0, features: 0, requests: [], errors: [], local: [] };
+    // With "files", the web export's manifest (origin, up, terrain mesh, points, traffic, the
+    // EPSG:4978 fit); without, a manifest made here (services_frame.js): the module meshes the
+    // WCS grid and places the origin by the native loader's rules.
+    let sceneBase, manifest;
+    if (desc.files) {
+      sceneBase = new URL(desc.files, descUrl).href;
+      manifest = JSON.parse((await fetchText(sceneBase)).text);
+      manifest.meshes = manifest.meshes.filter((m) => m.name !== 'buildings');
+    } else {
+      sceneBase = descUrl;
+      manifest = window.hvServiceFrame.emptyManifest(desc);
+    }
     const crs = desc.crs || manifest.crs;
+    // A source that cannot be read is named (the description, the field, the URL) and left out;
+    // the rest of the scene still loads.
+    const source = async (field, load) => {
+      if (!desc[field]) return;
+      try {
+        await load();
+      } catch (e) {
+        info.errors.push(descUrl + ': ' + field + ': ' + e.message + ' (' + field + ' left out)');
+      }
+    };
     const b = { geojson: [] };
     // The buildings.
-    const bpath = servicePath(desc.buildings, descUrl + ': buildings', 'WFS:');
-    for (const k of ['height', 'base', 'top', 'validFrom', 'validTo']) if (desc.buildings[k]) b[k] = desc.buildings[k];
-    const pagePut = (text) => {
-      const name = `services/buildings-${b.geojson.length}.json`;
-      put(name, new TextEncoder().encode(text));
-      b.geojson.push(name);
-      const doc = JSON.parse(text);
-      info.featurePages++;
-      info.features += (doc.features || []).length;
-      return doc;
-    };
-    if (bpath.startsWith('WFS:')) {
-      const u = new URL(bpath.slice(4), descUrl);
-      const typeName = u.searchParams.get('TYPENAME') || u.searchParams.get('TYPENAMES');
-      if (!typeName) throw new Error(bpath + ': no TYPENAME (expected the feature type, e.g. TYPENAME=ms:buildings)');
-      for (const k of ['TYPENAME', 'TYPENAMES']) u.searchParams.delete(k);
-      for (let start = 0; ; start += FEATURE_PAGE) {
-        if (info.featurePages >= MAX_FEATURE_PAGES) throw new Error(bpath + ': more than ' + MAX_FEATURE_PAGES * FEATURE_PAGE + ' features (not read further)');
-        const q = new URL(u);
-        for (const [k, v] of Object.entries({ SERVICE: 'WFS', VERSION: '2.0.0', REQUEST: 'GetFeature', TYPENAMES: typeName,
-          OUTPUTFORMAT: 'geojson', SRSNAME: crs, COUNT: FEATURE_PAGE, STARTINDEX: start })) q.searchParams.set(k, v);
-        info.requests.push(q.href);
-        const doc = pagePut((await fetchText(q.href)).text);
-        if (!Array.isArray(doc.features) || doc.features.length < FEATURE_PAGE) break;
+    await source('buildings', async () => {
+      const bpath = servicePath(desc.buildings, 'expected a WFS or OGC API source', 'WFS:');
+      for (const k of ['height', 'base', 'top', 'validFrom', 'validTo']) if (desc.buildings[k]) b[k] = desc.buildings[k];
+      const pagePut = (text) => {
+        const name = `services/buildings-${b.geojson.length}.json`;
+        put(name, new TextEncoder().encode(text));
+        b.geojson.push(name);
+        const doc = JSON.parse(text);
+        info.featurePages++;
+        info.features += (doc.features || []).length;
+        return doc;
+      };
+      if (bpath.startsWith('WFS:')) {
+        const u = new URL(bpath.slice(4), descUrl);
+        const typeName = u.searchParams.get('TYPENAME') || u.searchParams.get('TYPENAMES');
+        if (!typeName) throw new Error(bpath + ': no TYPENAME (expected the feature type, e.g. TYPENAME=ms:buildings)');
+        for (const k of ['TYPENAME', 'TYPENAMES']) u.searchParams.delete(k);
+        for (let start = 0; ; start += FEATURE_PAGE) {
+          if (info.featurePages >= MAX_FEATURE_PAGES) throw new Error(bpath + ': more than ' + MAX_FEATURE_PAGES * FEATURE_PAGE + ' features (not read further)');
+          const q = new URL(u);
+          for (const [k, v] of Object.entries({ SERVICE: 'WFS', VERSION: '2.0.0', REQUEST: 'GetFeature', TYPENAMES: typeName,
+            OUTPUTFORMAT: 'geojson', SRSNAME: crs, COUNT: FEATURE_PAGE, STARTINDEX: start })) q.searchParams.set(k, v);
+          info.requests.push(q.href);
+          const doc = pagePut((await fetchText(q.href)).text);
+          if (!Array.isArray(doc.features) || doc.features.length < FEATURE_PAGE) break;
+        }
+      } else if (bpath.startsWith('OAPIF:')) {
+        const code = /^EPSG:(\d+)$/.exec(crs || '');
+        if (!code) throw new Error(bpath + ': the scene CRS ' + crs + ' is not EPSG:n (the browser asks the service for it)');
+        const crsUri = 'http://www.opengis.net/def/crs/EPSG/0/' + code[1];
+        const items = new URL(bpath.slice(6).replace(/\/?$/, '/items'), descUrl);
+        items.searchParams.set('f', 'json');
+        items.searchParams.set('limit', FEATURE_PAGE);
+        items.searchParams.set('crs', crsUri);
+        for (let next = items.href; next;) {
+          if (info.featurePages >= MAX_FEATURE_PAGES) throw new Error(bpath + ': more than ' + MAX_FEATURE_PAGES + ' pages (not read further)');
+          info.requests.push(next);
+          const r = await fetchText(next);
+          // Without the CRS asked for, the features are longitude, latitude (CRS84): the browser
+          // does not reproject, so they are refused rather than placed wrong.
+          if (!r.crs || !r.crs.includes(crsUri))
+            throw new Error(next + ': the service did not answer in ' + crs + ' (Content-Crs: ' + (r.crs || 'none, i.e. CRS84') +
+                            '); the browser does not reproject: use a WFS (WFS:…) that serves the scene CRS');
+          const doc = pagePut(r.text);
+          const link = (doc.links || []).find((l) => l.rel === 'next');
+          next = link ? new URL(link.href, next).href : null;
+        }
+      } else {
+        throw new Error(bpath + ': the browser reads buildings from WFS: or OAPIF: sources (expected one)');
       }
-    } else if (bpath.startsWith('OAPIF:')) {
-      const code = /^EPSG:(\d+)$/.exec(crs || '');
-      if (!code) throw new Error(bpath + ': the scene CRS ' + crs + ' is not EPSG:n (the browser asks the service for it)');
-      const crsUri = 'http://www.opengis.net/def/crs/EPSG/0/' + code[1];
-      const items = new URL(bpath.slice(6).replace(/\/?$/, '/items'), descUrl);
-      items.searchParams.set('f', 'json');
-      items.searchParams.set('limit', FEATURE_PAGE);
-      items.searchParams.set('crs', crsUri);
-      for (let next = items.href; next;) {
-        if (info.featurePages >= MAX_FEATURE_PAGES) throw new Error(bpath + ': more than ' + MAX_FEATURE_PAGES + ' pages (not read further)');
-        info.requests.push(next);
-        const r = await fetchText(next);
-        // Without the CRS asked for, the features are longitude, latitude (CRS84): the browser
-        // does not reproject, so they are refused rather than placed wrong.
-        if (!r.crs || !r.crs.includes(crsUri))
-          throw new Error(next + ': the service did not answer in ' + crs + ' (Content-Crs: ' + (r.crs || 'none, i.e. CRS84') +
-                          '); the browser does not reproject: use a WFS (WFS:…) that serves the scene CRS');
-        const doc = pagePut(r.text);
-        const link = (doc.links || []).find((l) => l.rel === 'next');
-        next = link ? new URL(link.href, next).href : null;
-      }
-    } else {
-      throw new Error(bpath + ': the browser reads buildings from WFS: or OAPIF: sources (expected one)');
-    }
-    // The DTM under the buildings.
-    if (desc.terrain) {
-      const tpath = servicePath(desc.terrain, descUrl + ': terrain', 'WCS:');
+    });
+    // The DTM under the buildings and, without an export, the terrain itself.
+    await source('terrain', async () => {
+      const tpath = servicePath(desc.terrain, 'expected a WCS source', 'WCS:');
       if (!tpath.startsWith('WCS:')) throw new Error(tpath + ': the browser reads the terrain from a WCS: source');
       const q = new URL(tpath.slice(4), descUrl);
       q.searchParams.set('REQUEST', 'GetCoverage');
@@ -112,23 +135,32 @@ window.hvServices = (() => {
       const r = await fetchText(q.href);
       put('services/dtm.asc', new TextEncoder().encode(coveragePart(r.text, r.type)));
       b.dtm = 'services/dtm.asc';
-    }
-    manifest.buildings = b;
+      if (!desc.files) manifest.terrain = { grid: 'services/dtm.asc' };
+    });
+    if (b.geojson.length) manifest.buildings = b;
     // The cameras: a WFS / OGC API layer of camera points (services_cameras.js; the photographs'
     // paths relative to the description), or a cameras file by URL (the paths relative to it).
-    const cpath = servicePath(desc.cameras, descUrl + ': cameras', '');
     let photoBase = descUrl;
-    if (/^(WFS|OAPIF):/.test(cpath)) {
-      manifest.cameras = await window.hvServiceCameras.loadCameraLayer(cpath, descUrl, crs, put, info);
-    } else {
-      photoBase = new URL(cpath, descUrl).href;
-      put('cameras.json', new TextEncoder().encode((await fetchText(photoBase)).text));
-      manifest.cameras = 'cameras.json';
-    }
+    manifest.cameras = 'cameras.json';
+    put('cameras.json', new TextEncoder().encode('{"cameras": []}'));  // until they are read
+    await source('cameras', async () => {
+      const cpath = servicePath(desc.cameras, 'expected a WFS, OGC API or cameras file source', '');
+      if (/^(WFS|OAPIF):/.test(cpath)) {
+        manifest.cameras = await window.hvServiceCameras.loadCameraLayer(cpath, descUrl, crs, put, info);
+      } else {
+        const url = new URL(cpath, descUrl).href;
+        info.requests.push(url);
+        put('cameras.json', new TextEncoder().encode((await fetchText(url)).text));
+        photoBase = url;
+      }
+    });
+    if (!desc.cameras) info.errors.push(descUrl + ': cameras: missing (expected {"path": "WFS:http://…"} or a cameras file; no photographs)');
+    if (!desc.files) await window.hvServiceFrame.settle(desc, descUrl, manifest, { ...ctx, put }, info);
     if (window.hvServiceLayers) await window.hvServiceLayers.apply(desc, descUrl, manifest, { ...ctx, put }, info);
     put('scene_web.json', new TextEncoder().encode(JSON.stringify(manifest)));
     console.log(`histoview: service scene ${descUrl}: ${info.features} features in ${info.featurePages} pages`);
-    return { manifest, sceneBase, photoBase, info };
+    const viewsUrl = desc.views ? new URL(desc.views, descUrl).href : null;
+    return { manifest, sceneBase, photoBase, viewsUrl, info };
   }
 
   return { loadServiceScene };

@@ -4,6 +4,7 @@
 #include "hv/gpu/gl.h"
 #include "hv/image/colormap.h"
 #include "hv/image/native/png_write.h"
+#include "hv/io/native/crs_proj_string.h"
 #include "hv/io/native/georef.h"
 #include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/native/points_tiles.h"
@@ -182,6 +183,12 @@ int printInfo(const std::string& scenePath, const Scene& scene, const CheckRepor
   };
   std::cout << "crs        " << (scene.crs.empty() ? "(none given)" : crsText(scene.crs) + "; scene frame in metres")
             << "\n";
+  if (!scene.crs.empty()) {
+    try {  // for a service description's "projection" (docs/services.md, "In the browser")
+      if (const std::string p = crsProjString(scene.crs); !p.empty()) std::cout << "  proj4    " << p << "\n";
+    } catch (const InputError&) {
+    }
+  }
   for (const Scene::SourceCrs& s : scene.sourceCrs)
     std::cout << "  " << s.source << (s.transformed ? " from " : " in ") << crsText(s.crs)
               << (s.transformed ? "" : " (taken as it is: the scene declares no crs)") << "\n";

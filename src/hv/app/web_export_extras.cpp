@@ -4,7 +4,7 @@
 #include "hv/io/native/orthophoto_reader.h"
 #include "hv/io/web_geocentric.h"
 #include "hv/io/web_orthophoto.h"
-#include "hv/scene/terrain_quadtree.h"
+#include "hv/scene/scene_frame.h"
 
 #include <nlohmann/json.hpp>
 
@@ -17,22 +17,13 @@ namespace hv::app {
 
 namespace {
 
-// EPSG:4978 -> the scene CRS (through PROJ) over the scene's bounds widened by half their size (at
-// least 500 m) and 200 m up and down: a 9 x 9 x 5 grid, ten unknowns per coordinate many times over.
+// EPSG:4978 -> the scene CRS (through PROJ) at the samples of hv/scene/geocentric_fit.h.
 GeocentricFit geocentricFit(const Scene& scene, Diagnostics& diag) {
   const GeoTransform toEcef(scene.crs, "EPSG:4978", diag);
-  const Aabb b = scene.bounds();
-  const glm::dvec3 size = b.size();
-  const double widen = std::max(500.0, 0.5 * std::max(size.x, size.y));
-  const glm::dvec3 lo = b.lo - glm::dvec3(widen, widen, 200.0), hi = b.hi + glm::dvec3(widen, widen, 200.0);
-  std::vector<glm::dvec3> sceneSamples, ecef;
-  for (int i = 0; i <= 8; ++i)
-    for (int j = 0; j <= 8; ++j)
-      for (int k = 0; k <= 4; ++k) {
-        const glm::dvec3 p = lo + (hi - lo) * glm::dvec3(i / 8.0, j / 8.0, k / 4.0);
-        sceneSamples.push_back(p);
-        ecef.push_back(toEcef.point(p));
-      }
+  const std::vector<glm::dvec3> sceneSamples = geocentricFitSamples(scene.bounds());
+  std::vector<glm::dvec3> ecef;
+  ecef.reserve(sceneSamples.size());
+  for (const glm::dvec3& p : sceneSamples) ecef.push_back(toEcef.point(p));
   return fitGeocentric(ecef, sceneSamples);
 }
 
@@ -55,7 +46,7 @@ void writeWebSceneExtras(const Scene& scene, const std::string& manifestPath, Di
     }
   }
   // The rectangle the native loader drapes an orthophoto over (scene_loader.cpp, readSceneOrthophoto).
-  const Aabb extent = scene.terrainTiles ? scene.terrainTiles->tile(TerrainQuadtree::root()).bounds : scene.terrain.bounds();
+  const Aabb extent = terrainExtent(scene);  // hv/scene/scene_frame.h: also the page's without an export
   if (!extent.empty()) m["terrainExtent"] = {extent.lo.x, extent.lo.y, extent.hi.x, extent.hi.y};
   if (const std::shared_ptr<const Orthophoto> o = loadOrthophoto(scene, diag); o && !o->empty()) {
     try {

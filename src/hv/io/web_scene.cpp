@@ -3,6 +3,7 @@
 #include "hv/io/cameras_json.h"
 #include "hv/io/geojson_cameras.h"
 #include "hv/io/geojson_footprints.h"
+#include "hv/io/web_scene_frame.h"
 #include "hv/scene/chunks.h"
 #include "hv/scene/point_normals.h"
 #include "hv/traffic/trajectories.h"
@@ -471,7 +472,13 @@ Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& optio
   scene.path = manifestPath;
   try {
     scene.crs = j.value("crs", std::string());
-    scene.origin = vec3Of(j.at("origin"), manifestPath + ": origin");
+    // Without an origin (a service scene without an export, hv/io/web_scene_frame.h), the native
+    // rule places it once everything is read; nothing may then be stored relative to it.
+    if (j.contains("origin"))
+      scene.origin = vec3Of(j["origin"], manifestPath + ": origin");
+    else if (!j.value("meshes", json::array()).empty() || j.contains("points"))
+      throw InputError(manifestPath +
+                       ": origin: missing (expected [x, y, z]: the meshes and points are stored relative to it)");
     if (j.contains("up")) scene.up = vec3Of(j["up"], manifestPath + ": up");
     if (j.contains("buildingValidity")) {
       for (const auto& v : j["buildingValidity"]) {
@@ -491,6 +498,13 @@ Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& optio
                          m.at("triangles").get<std::size_t>(), m.value("tags", false));
     } catch (const std::exception& e) {
       diag.error(manifestPath + ": mesh '" + name + "': " + e.what());
+    }
+  }
+  if (j.contains("terrain")) {
+    try {
+      readWebTerrainGrid(j["terrain"], dir.string(), scene);
+    } catch (const std::exception& e) {
+      diag.error(manifestPath + ": terrain: " + e.what() + " (terrain left out)");
     }
   }
   if (j.contains("buildings")) {
@@ -568,6 +582,7 @@ Scene readWebScene(const std::string& manifestPath, const WebSceneOptions& optio
   } catch (const InputError& e) {
     diag.error(manifestPath + ": cameras: " + e.what());
   }
+  settleWebSceneFrame(scene, j.contains("origin"), j.contains("up"), manifestPath, diag);
   return scene;
 }
 

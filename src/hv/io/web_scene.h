@@ -22,6 +22,9 @@
 //                   "geocentric", "terrainExtent" and "orthophoto" (with orthophoto.rgba): added by
 //                   web-export for the page's service layers (hv/io/web_geocentric.h,
 //                   hv/io/web_orthophoto.h, src/hv/app/web_export_extras.h).
+//                   "terrain": {"grid": "dtm.asc"}, and no "origin": a service scene the page makes
+//                   without an export (hv/io/web_scene_frame.h): the terrain meshed from the grid,
+//                   the origin and up placed by the native loader's rules (hv/scene/scene_frame.h).
 //   NAME.bin        V*3 float32 positions relative to `origin` (render frame), then T*3 uint32
 //                   indices, then (when "tags") T uint32 triangle tags; little-endian, no header.
 //   points.bin      the point cloud (scene.points, in the scene frame, normals as loaded), below.

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace hv {
@@ -12,6 +13,18 @@ std::array<double, 10> terms(const glm::dvec3& q) {
 }
 
 }  // namespace
+
+std::vector<glm::dvec3> geocentricFitSamples(const Aabb& bounds) {
+  const glm::dvec3 size = bounds.size();
+  const double widen = std::max(500.0, 0.5 * std::max(size.x, size.y));
+  const glm::dvec3 lo = bounds.lo - glm::dvec3(widen, widen, 200.0), hi = bounds.hi + glm::dvec3(widen, widen, 200.0);
+  std::vector<glm::dvec3> samples;
+  samples.reserve(9 * 9 * 5);
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 8; ++j)
+      for (int k = 0; k <= 4; ++k) samples.push_back(lo + (hi - lo) * glm::dvec3(i / 8.0, j / 8.0, k / 4.0));
+  return samples;
+}
 
 GeocentricFit fitGeocentric(const std::vector<glm::dvec3>& ecef, const std::vector<glm::dvec3>& scene) {
   if (ecef.size() != scene.size() || ecef.size() < 10)

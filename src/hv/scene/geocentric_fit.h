@@ -5,6 +5,8 @@
 // in distance / earth radius) are far below a millimetre; maxError says what the fit measured.
 #pragma once
 
+#include "hv/math/aabb.h"
+
 #include <glm/glm.hpp>
 
 #include <array>
@@ -21,6 +23,12 @@ struct GeocentricFit {
   double maxError = 0.0;  // the largest distance between the fit and the samples, metres
   bool valid() const { return scale > 0.0; }
 };
+
+// Where the fit is sampled, in the scene frame: `bounds` (the scene's) widened by half their size
+// (at least 500 m) and 200 m up and down, a 9 x 9 x 5 grid (405 samples, ten unknowns per
+// coordinate many times over). `web-export` maps them to EPSG:4978 with PROJ, the page of a
+// service scene without an export with proj4js (web/services_frame.js).
+std::vector<glm::dvec3> geocentricFitSamples(const Aabb& bounds);
 
 // Least squares over matching samples (at least 10, spread in three dimensions). Throws
 // std::invalid_argument when they are too few or degenerate.

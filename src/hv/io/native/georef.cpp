@@ -1,4 +1,5 @@
 #include "hv/io/native/georef.h"
+#include "hv/io/native/crs_proj_string.h"
 
 #include <proj.h>
 #include <proj_experimental.h>  // proj_crs_demote_to_2D
@@ -220,6 +221,13 @@ CrsDescription describeCrs(const std::string& definition) {
   CtxPtr ctx = newContext();
   PjPtr pj = createCrs(ctx.get(), definition);
   return describe(ctx.get(), pj.get(), definition);
+}
+
+std::string crsProjString(const std::string& definition) {
+  CtxPtr ctx = newContext();
+  PjPtr pj = createCrs(ctx.get(), definition);
+  const char* const options[] = {"MULTILINE=NO", nullptr};
+  return str(proj_as_proj_string(ctx.get(), pj.get(), PJ_PROJ_4, options));
 }
 
 bool equivalentCrs(const std::string& a, const std::string& b) {

@@ -28,6 +28,7 @@
 #include "hv/scene/orthophoto.h"
 #include "hv/scene/point_normals.h"
 #include "hv/scene/robust_extent.h"
+#include "hv/scene/scene_frame.h"
 #include "hv/scene/scene_scale.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/util/diagnostics.h"
@@ -222,36 +223,6 @@ void georeferenceCameras(Scene& scene, const std::string& cameraCrs, bool upDecl
     for (const Photo& p : scene.photos) mean += p.camera.center / double(scene.photos.size());
     scene.up = ecefUp(mean);
   }
-}
-
-// The up axis of a scene that declares neither a CRS nor `up` (an SfM frame: Sceaux's is -z) is
-// the one the cameras agree on (hv/scene/scene_scale.h cameraUp), when they agree well enough; a
-// declared `up` that the cameras contradict is named. `info` says where the axis came from
-// (hv/scene/scene_scale.h upOrigin).
-void settleUp(Scene& scene, bool upDeclared, const std::string& path, Diagnostics& diag) {
-  const CameraUp fromCameras = cameraUp(scene.photos);
-  const bool agree = fromCameras.cameras > 0 && fromCameras.agreement >= kCameraUpAgreement;
-  auto vec = [](const glm::dvec3& v) {
-    std::ostringstream t;
-    t << std::fixed << std::setprecision(3) << "(" << v.x << ", " << v.y << ", " << v.z << ")";
-    return t.str();
-  };
-  if (upDeclared) {
-    const double angle =
-        std::acos(std::clamp(glm::dot(scene.up, fromCameras.up), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-    if (agree && angle > kCameraUpDisagreementDeg)
-      diag.warn(path + ": up: " + vec(scene.up) + " is " + std::to_string(int(std::lround(angle))) +
-                " degrees from the cameras' mean image up " + vec(fromCameras.up) + " (" +
-                std::to_string(fromCameras.cameras) + " cameras); the views would be tilted or upside down");
-    return;
-  }
-  if (!scene.crs.empty() || !agree) return;
-  scene.up = fromCameras.up;
-  const double fromZ = std::acos(std::clamp(scene.up.z, -1.0, 1.0)) * 180.0 / std::numbers::pi;
-  if (fromZ > kCameraUpDisagreementDeg)
-    diag.warn(path + ": no crs and no up: up " + vec(scene.up) + " inferred from the " +
-              std::to_string(fromCameras.cameras) + " cameras (" + std::to_string(int(std::lround(fromZ))) +
-              " degrees from z); give \"up\" in scene.json to choose another");
 }
 
 // Brings a point cloud into the scene frame (hv/io/georef.h): from its own CRS (the file's, or
@@ -648,32 +619,6 @@ void loadBuildingTiles(Scene& scene, const PendingBuildings& b, Heightfield&& dt
   }
 }
 
-// Scene::terrain from the quadtree: the tiles the photographs' cameras need (docs/design.md,
-// "Terrain tiles"), within the triangle budget, with their skirts.
-void meshTerrainTiles(Scene& scene) {
-  const auto t0 = std::chrono::steady_clock::now();
-  TerrainQuadtree& tree = *scene.terrainTiles;
-  std::vector<Camera> cameras;
-  cameras.reserve(scene.photos.size());
-  for (const Photo& p : scene.photos) cameras.push_back(p.camera);
-  const TerrainSelection sel = tree.select(cameras, kTerrainTolerancePx, kTerrainTriangleBudget);
-  scene.terrain = tree.mesh(sel.nodes);
-  Scene::TerrainTilesInfo& info = scene.terrainTilesInfo;
-  info.tiles = sel.nodes.size();
-  info.coarsestLevel = sel.coarsestLevel;
-  info.finestLevel = sel.finestLevel;
-  info.maxLevel = tree.maxLevel();
-  info.tileCells = tree.tileCells();
-  info.tolerancePx = kTerrainTolerancePx;
-  info.triangleBudget = kTerrainTriangleBudget;
-  info.budgetLimited = sel.budgetLimited;
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  log::debug("terrain: " + std::to_string(sel.nodes.size()) + " tiles, levels " + std::to_string(sel.coarsestLevel) +
-             ".." + std::to_string(sel.finestLevel) + " of 0.." + std::to_string(tree.maxLevel()) + ", " +
-             std::to_string(scene.terrain.triangles.size()) + " triangles, " + std::to_string(tree.loadedTiles()) +
-             " tiles read, " + std::to_string(s) + " s");
-}
-
 // A heightfield of one elevation over any footprint (±1e8 m around the origin): the buildings'
 // base on a ground plane, as on a DTM.
 Heightfield constantHeightfield(double height) {
@@ -852,7 +797,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
       if (!scene.terrainTiles) {
         GeoreferencedHeightfield read = readHeightfield(p, georef, diag);
         dtm = std::move(read.field);
-        scene.terrain = dtm.toMesh();
+        scene.terrain = dtm.toMesh();  // at most kTerrainTilesAboveCells: whole (hv/scene/scene_frame.h)
         recordSource(scene, "terrain", read.sourceCrs);
       }
       log::debug("terrain: " + p + ": " + std::to_string(size.cols) + "x" + std::to_string(size.rows) +
@@ -1106,11 +1051,7 @@ Scene loadScene(const std::string& path, Diagnostics& diag, const SceneLoadOptio
   if (doc.contains("origin")) {
     scene.origin = vec3Field(doc, "origin", path);
   } else {
-    // Centre of the data, rounded to whole metres so the render frame is easy to read in logs;
-    // outliers left out (hv/scene/robust_extent.h: one absurd coordinate would move it off the data).
-    const Aabb inliers = robustExtent(scene).bounds;
-    const glm::dvec3 c = inliers.empty() ? glm::dvec3(0.0) : inliers.center();
-    scene.origin = glm::round(c);
+    scene.origin = dataOrigin(scene);  // hv/scene/scene_frame.h
   }
   return scene;
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "hv/scene/scene.h"
+#include "hv/scene/scene_frame.h"
 #include "hv/util/diagnostics.h"
 
 #include <cstddef>
@@ -9,12 +10,10 @@
 
 namespace hv {
 
-// A terrain raster over kTerrainTilesAboveCells (hv/io/native/terrain_raster.h) becomes a quadtree
-// of tiles of kTerrainTileCells cells; Scene::terrain holds the tiles whose screen-space error
-// from every photograph's camera is within kTerrainTolerancePx, refined largest error first
-// within kTerrainTriangleBudget (estimated: two a cell and two a skirt segment).
-constexpr int kTerrainTileCells = 64;
-constexpr double kTerrainTolerancePx = 2.0;
+// A terrain raster over kTerrainTilesAboveCells becomes a quadtree of tiles of kTerrainTileCells
+// cells; Scene::terrain holds the tiles whose screen-space error from every photograph's camera is
+// within kTerrainTolerancePx, refined largest error first within kTerrainTriangleBudget
+// (hv/scene/scene_frame.h: the rules the page's service scenes share).
 // Buildings are read by tile (hv/io/native/footprints.h), about kBuildingsPerTile footprints per
 // tile; with photographs, only the tiles some photograph may see closer than
 // kBuildingReachMetresPerPixel (hv/scene/building_tiles.h) x its focal length in pixels. A source
@@ -23,7 +22,6 @@ constexpr std::size_t kBuildingsPerTile = 256;
 // The tiles' boxes span the terrain's and the cameras' heights, widened by this much (towers,
 // basements) until a tile's own box is known from its buildings.
 constexpr double kBuildingTileMarginMetres = 1000.0;
-constexpr std::size_t kTerrainTriangleBudget = 2'000'000;
 
 // Loads terrain, buildings and cameras. A broken source (missing file, unreadable raster, bad
 // camera) is reported in `diag` and left out; the rest loads. Throws InputError only when

@@ -1,5 +1,6 @@
-// The up axis of a scene without a CRS (scene_loader.cpp settleUp): inferred from the cameras'
-// image up, as `info` then says; a declared up that the cameras contradict is named.
+// The up axis of a scene without a CRS (hv/scene/scene_frame.h settleUp, which the native loader
+// calls): inferred from the cameras' image up, as `info` then says; a declared up that the cameras
+// contradict is named.
 #include "hv/io/native/scene_loader.h"
 #include "hv/scene/scene_scale.h"
 

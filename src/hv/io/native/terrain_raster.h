@@ -14,6 +14,7 @@
 #pragma once
 
 #include "hv/io/native/georef.h"
+#include "hv/scene/scene_frame.h"
 #include "hv/scene/terrain_quadtree.h"
 #include "hv/util/diagnostics.h"
 
@@ -23,9 +24,8 @@
 
 namespace hv {
 
-// Above this many cells, `loadScene` makes the terrain from a quadtree of tiles (docs/formats.md,
-// Limits); at or below it, the whole raster is meshed at full resolution as before.
-constexpr std::uint64_t kTerrainTilesAboveCells = std::uint64_t(1024) * 1024;
+// Above kTerrainTilesAboveCells (hv/scene/scene_frame.h), `loadScene` makes the terrain from a
+// quadtree of tiles (docs/formats.md, Limits); at or below it, the whole raster is meshed.
 // The most samples of the pyramid built in memory (its finest grid), and of any one window read.
 constexpr std::uint64_t kTerrainPyramidCells = std::uint64_t(2048) * 2048;
 
