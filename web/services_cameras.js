@@ -7,8 +7,8 @@
 // - the photographs: by path relative to the description (or to the cameras file), by http(s)
 //   URL, or from a IIIF image service (a camera whose image is an info.json): the description,
 //   then the preview and the image at the camera's size that the module's size rules choose
-//   (hv/io/iiif.h, as natively); the module's photoArrived once both are in, the renderer showing
-//   the preview first.
+//   (hv/io/iiif.h, as natively); the photograph joins with its preview (photoArrived), and its
+//   full image replaces the preview in place when it arrives (photoFullArrived).
 // Loaded before histoview.js, which calls window.hvServiceCameras.
 'use strict';
 
@@ -88,14 +88,18 @@ window.hvServiceCameras = (() => {
   const isHttp = (url) => /^https?:\/\//i.test(url);
 
   // Fetches the photographs in `order`, `o.inFlight` at a time: each joins the renderer's
-  // selection (viewer.photoArrived) as soon as its bytes are in the file system. A IIIF
-  // photograph: its description, then the preview, then the full image (the module's requests,
-  // viewer.iiifPlan); it joins with both, and the renderer shows the preview first, as natively.
+  // selection (viewer.photoArrived) as soon as its bytes (and its mask's) are in the file system.
+  // A IIIF photograph: its description, then its preview (the module's requests, viewer.iiifPlan),
+  // with which it joins; its full image is fetched once every preview has been asked for (as the
+  // native image loader orders them) and replaces the preview in place (viewer.photoFullArrived,
+  // Renderer::replaceImage). A full image that cannot be fetched leaves the preview, named.
   // `o`: {put(rel, bytes), fetchBytes(url), photoBase, rel(fsPath), inFlight, arrived(i, bytes)
-  // (its list entry), failed(photo, error), done()}; `bytes` counts what came, previews apart:
+  // (its list entry, when it joins), failed(photo, error), done() (once per photograph, when it
+  // is complete or has failed)}; `bytes` counts what came, previews apart:
   // {previews, previewBytes, images, imageBytes}.
   function fetchPhotographs(viewer, photos, order, o, bytes) {
     let next = 0;
+    const fulls = [];  // [i, url]: previews that joined, their full images to fetch
     const count = (b, preview) => {
       if (preview) { bytes.previews++; bytes.previewBytes += b.length; } else { bytes.images++; bytes.imageBytes += b.length; }
       return b;
@@ -107,35 +111,44 @@ window.hvServiceCameras = (() => {
       o.put(o.rel(path), b);
       return b;
     }
-    // One photograph; its bytes for the list's thumbnail (the preview's when there is one).
-    async function fetchOne(i, p) {
-      let thumb;
+    // A photograph's first part: it joins (with its preview, or its image). True when complete.
+    async function fetchFirst(i, p) {
+      let image, full = null;
       if (!isIiifInfo(p.image)) {
-        thumb = count(await fileOrUrl(p.image), false);
+        image = count(await fileOrUrl(p.image), false);
       } else {
         const plan = JSON.parse(viewer.iiifPlan(i, (await fetchText(p.image)).text, p.image));
         if (plan.error) throw new Error(plan.error);
-        if (plan.preview) {
-          thumb = count(await o.fetchBytes(plan.preview.url), true);
-          putUrl(plan.preview.url, thumb);
-        }
-        const b = count(await o.fetchBytes(plan.full.url), false);
-        putUrl(plan.full.url, b);
-        thumb = thumb || b;
+        const first = plan.preview || plan.full;
+        image = count(await o.fetchBytes(first.url), !!plan.preview);
+        putUrl(first.url, image);
+        if (plan.preview) full = plan.full.url;
       }
       if (p.mask) await fileOrUrl(p.mask);
       viewer.photoArrived(i);
-      return thumb;
+      o.arrived(i, image);
+      if (full) fulls.push([i, full]);
+      return !full;
+    }
+    async function fetchFull(i, url) {
+      let b;
+      try {
+        b = await o.fetchBytes(url);
+      } catch (e) {
+        throw new Error(e.message + ' (its preview kept)');
+      }
+      putUrl(url, count(b, false));
+      viewer.photoFullArrived(i);
     }
     async function worker() {
-      while (next < order.length) {
-        const i = order[next++];
+      while (next < order.length || fulls.length) {
+        const [i, full] = next < order.length ? [order[next++], null] : fulls.shift();
         try {
-          o.arrived(i, await fetchOne(i, photos[i]));
+          if (full ? (await fetchFull(i, full), true) : await fetchFirst(i, photos[i])) o.done();
         } catch (e) {
           o.failed(photos[i], e);
+          o.done();
         }
-        o.done();
       }
     }
     return Promise.all(Array.from({ length: o.inFlight }, worker));

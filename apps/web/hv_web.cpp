@@ -156,6 +156,15 @@ class WebViewer {
     return web::iiifPlan(scene_->photos[size_t(i)], infoText, url);
   }
   std::string remoteFilePath(const std::string& url) const { return web::remoteFilePath("", url); }
+  // The full image of IIIF photograph i is in the file system: it replaces the preview the
+  // photograph joined with, in place (Renderer::replaceImage). False when none was pending.
+  bool photoFullArrived(int i) {
+    if (!scene_ || !renderer_ || i < 0 || size_t(i) >= scene_->photos.size()) return false;
+    if (!web::iiifFullArrived(scene_->photos[size_t(i)])) return false;
+    renderer_->replaceImage(i);
+    dirty_ = true;
+    return true;
+  }
 
   // Cameras. The views file (cameras.json schema, images optional) is in the file system.
   std::string setViewFromFile(const std::string& path, const std::string& id, int width, int height) {
@@ -895,6 +904,7 @@ EMSCRIPTEN_BINDINGS(histoview) {
       .function("arrived", &WebViewer::arrived)
       .function("iiifPlan", &WebViewer::iiifPlan)
       .function("remoteFilePath", &WebViewer::remoteFilePath)
+      .function("photoFullArrived", &WebViewer::photoFullArrived)
       .function("setViewFromFile", &WebViewer::setViewFromFile)
       .function("overview", &WebViewer::overview)
       .function("move", &WebViewer::move)

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <map>
 #include <string_view>
 #include <vector>
 
@@ -26,6 +27,13 @@ std::string readPut(const std::string& url, std::uint64_t maxBytes, const std::s
   if (!isRegularFile(file)) throw InputError(inputMessage(url, what, "not fetched by the page (yet)"));
   const std::vector<std::uint8_t> bytes = readInputBytes(file, maxBytes, what);
   return std::string(bytes.begin(), bytes.end());
+}
+
+// The full request of a photograph read from its preview (iiifPlan), by its camera's id and the
+// preview's URL.
+std::map<std::string, std::string>& fullOfPreview() {
+  static std::map<std::string, std::string> m;
+  return m;
 }
 
 json sized(const IiifRequest& r) { return {{"url", r.url}, {"width", r.width}, {"height", r.height}}; }
@@ -68,10 +76,22 @@ std::string iiifPlan(Photo& photo, const std::string& infoText, const std::strin
     sizes.atWidth = [full](int) { return SizedImageUrl{full.url, full.width, full.height}; };
     registerImageSizes(full.url, std::move(sizes));
     photo.imagePath = full.url;
+    if (preview.width < full.width) {
+      // Joins with the preview, read as the photograph's image until iiifFullArrived.
+      photo.imagePath = preview.url;
+      fullOfPreview()[camera.id + "\n" + preview.url] = full.url;
+    }
     return json{{"full", sized(full)}, {"preview", preview.width < full.width ? sized(preview) : json(nullptr)}}.dump();
   } catch (const std::exception& e) {
     return json{{"error", e.what()}}.dump();
   }
+}
+
+bool iiifFullArrived(Photo& photo) {
+  const auto it = fullOfPreview().find(photo.camera.id + "\n" + photo.imagePath);
+  if (it == fullOfPreview().end()) return false;
+  photo.imagePath = it->second;
+  return true;
 }
 
 }  // namespace hv::web

@@ -22,10 +22,16 @@ void installPageRemoteReader(const std::string& root);
 // read from `url`: {"full": {"url", "width", "height"}, "preview": {...} or null} (the preview:
 // fitted in 256 x 256, or in a quarter of the camera's longer side when smaller; none when it
 // would not be smaller than the full request), or {"error": "..."} naming the URL when the
-// description cannot be read or its image has another aspect ratio than the camera's. The photo
-// is then read from the full request, its preview registered (hv/util/image_sizes.h): the image
-// loader decodes the preview first, then the full image, as natively; the page puts both before
-// the photograph joins (photoArrived).
+// description cannot be read or its image has another aspect ratio than the camera's. With a
+// preview the photo is read from the preview first (it joins the selection with it: photoArrived
+// once the page has put it), then iiifFullArrived switches it to the full request; without one,
+// from the full request. The sizes are registered under the full request (hv/util/image_sizes.h),
+// so that a photograph made resident again later reads the preview first, then the full image,
+// as natively.
 std::string iiifPlan(Photo& photo, const std::string& infoText, const std::string& url);
+
+// The page has put the full request of `photo`'s IIIF plan: the photo is read from it from now on
+// (the caller hands it to Renderer::replaceImage). False when the photo has no preview pending.
+bool iiifFullArrived(Photo& photo);
 
 }  // namespace hv::web

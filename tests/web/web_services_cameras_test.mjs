@@ -10,7 +10,10 @@
 // of the cameras-file page (identical or >= 45 dB: the same cameras, whichever reader) and of the
 // files (>= 45 dB, or >= 30 dB when the photographs come from iipsrv, which re-encodes them as
 // JPEG, the bound of the native test tests/iiif_test.sh); IIIF: a preview and a full image per
-// photograph, the bytes reported, previews apart. Faults: --malformed, a camera layer that is
+// photograph, the bytes reported, previews apart; previews first (openStaged): with the image
+// requests held back, the frame has no photograph; with the previews let through and the full
+// images held, every photograph joins with its preview and the frame is textured by them; with the
+// full images let through, the converged frame is the freely fetching page's. Faults: --malformed, a camera layer that is
 // not GeoJSON: an error naming its URL, the buildings still read and the page completes;
 // --missing, one photograph answering 404: an error naming its URL, the others arrive.
 import { chromium } from 'playwright-core';
@@ -48,6 +51,12 @@ async function open(url, name, { expectErrors = false } = {}) {
   if (!expectErrors)
     check(state.errors.length === 0 && errors.length === 0, `${name}: no page errors` +
           (state.errors.length + errors.length ? ': ' + [...state.errors, ...errors].join(' | ') : ''));
+  const shot = await shoot(page, name);
+  await page.close();
+  return { state, requests, errors: [...state.errors, ...errors], rgba: shot.rgba };
+}
+// The canvas's RGBA (and web-NAME.png in --out).
+async function shoot(page, name) {
   const shot = await page.evaluate(() => {
     const canvas = document.getElementById('view');
     const c = document.createElement('canvas');
@@ -60,8 +69,54 @@ async function open(url, name, { expectErrors = false } = {}) {
     return { rgba: btoa(bytes), png: canvas.toDataURL('image/png') };
   });
   fs.writeFileSync(path.join(args.out, `web-${name}.png`), Buffer.from(shot.png.split(',')[1], 'base64'));
+  return { rgba: Buffer.from(shot.rgba, 'base64') };
+}
+// The IIIF page with its image requests held back (the services stay real; Playwright only delays
+// the page's requests): every image at first (the frame with no photograph), then the previews
+// (each photograph's first image request) while the full images stay held (the frame textured by
+// the previews), then the full images (the converged frame). Returns the three canvases and the
+// page's state at each stage.
+async function openStaged(url, name) {
+  const page = await browser.newPage({ viewport: { width: 1000, height: 560 } });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  const seen = new Set(), held = { preview: [], full: [] }, open = { preview: false, full: false };
+  let fullAsked = 0;
+  await page.route((u) => /IIIF=/.test(u.href) && !/info\.json/.test(u.href), (route) => {
+    const id = route.request().url().replace(/\/full\/.*$/, '');
+    const kind = seen.has(id) ? 'full' : 'preview';
+    seen.add(id);
+    if (kind === 'full') fullAsked++;
+    if (open[kind]) route.continue(); else held[kind].push(route);
+  });
+  const state = () => page.evaluate(() => ({ status: hv.status, photoBytes: hv.photoBytes, loaded: hv.loaded, errors: hv.errors,
+                                             text: document.getElementById('status').textContent }));
+  const until = (fn, arg) => page.waitForFunction(fn, arg, { timeout: 120000, polling: 250 });
+  await page.goto(url);
+  // Nothing can arrive: the first frames have no photograph.
+  await until(() => window.hv && hv.status && hv.status.frames >= 1 && hv.status.converged && hv.status.arrived === 0);
+  const none = await shoot(page, name + '-no-photograph');
+  open.preview = true;
+  for (const r of held.preview.splice(0)) r.continue();
+  await until((n) => hv.status && hv.status.arrived === n && hv.photoBytes.previews === n && hv.status.converged, photos);
+  const previewState = await state();
+  const previews = await shoot(page, name + '-previews');
+  const fullsHeld = held.full.length;
+  open.full = true;
+  for (const r of held.full.splice(0)) r.continue();
+  await until(() => hv.loaded || hv.errors.length > 0);
+  const converged = await shoot(page, name + '-converged');
+  const finalState = await state();
   await page.close();
-  return { state, requests, errors: [...state.errors, ...errors], rgba: Buffer.from(shot.rgba, 'base64') };
+  return { none, previews, converged, previewState, finalState, fullsHeld, fullAsked, errors: [...finalState.errors, ...errors] };
+}
+// PSNR over RGB (Infinity: identical).
+function psnr(a, b) {
+  let se = 0, n = 0;
+  for (let i = 0; i < a.rgba.length; i += 4)
+    for (let c = 0; c < 3; ++c) { const d = a.rgba[i + c] - b.rgba[i + c]; se += d * d; n++; }
+  return se === 0 ? Infinity : 10 * Math.log10(255 * 255 / (se / n));
 }
 // PSNR over RGB (Infinity: identical), and how many pixels differ.
 function compare(a, b, what, minDb) {
@@ -99,6 +154,23 @@ try {
       check(order[0] === 'info', `${name}: the description asked first`);
     }
     compare(wfs, iiif, 'cameras from the WFS vs from the cameras file (photographs from IIIF)', 45);
+    // Previews first: the photographs join with their previews while the full images are held.
+    const st = await openStaged(args['iiif-file'], 'iiif-staged');
+    console.log(`iiif-staged: previews in: ${JSON.stringify(st.previewState.photoBytes)}, ${st.fullsHeld} full requests held; ` +
+                `status: ${st.previewState.text.replace(/\n/g, ' | ')}`);
+    check(st.errors.length === 0, 'iiif-staged: no page errors' + (st.errors.length ? ': ' + st.errors.join(' | ') : ''));
+    check(st.previewState.photoBytes.images === 0 && st.fullsHeld > 0 && !st.previewState.loaded,
+          `iiif-staged: every photograph joined with its preview, no full image in (${st.fullsHeld} held)`);
+    check(/previews [\d.]+ MB \(\d+\)/.test(st.previewState.text), 'iiif-staged: the status reports the previews\' bytes');
+    const untextured = psnr(st.none, st.converged), byPreviews = psnr(st.previews, st.converged);
+    console.log(`iiif-staged: against the converged frame: no photograph ${untextured.toFixed(2)} dB, previews ${byPreviews.toFixed(2)} dB`);
+    check(byPreviews >= 20 && byPreviews >= untextured + 6 && byPreviews < 60,
+          'iiif-staged: the previews\' frame is textured (>= 20 dB and 6 dB closer to the converged frame than the frame with ' +
+          'no photograph) and is not the full images\' (< 60 dB)');
+    check(st.finalState.loaded && st.finalState.photoBytes.images === photos && st.fullAsked === photos,
+          `iiif-staged: then every full image replaced its preview (${st.finalState.photoBytes.images} of ${photos})`);
+    compare({ rgba: st.converged.rgba }, iiif, 'iiif-staged converged vs the page fetching freely', 45);
+    compare({ rgba: st.converged.rgba }, files, 'iiif-staged converged vs files (iipsrv re-encodes as JPEG)', 30);
     compare(wfs, files, 'services (WFS cameras, IIIF photographs) vs files (iipsrv re-encodes as JPEG)', 30);
   } else {
     compare(wfs, files, 'services (WFS cameras) vs files', 45);

@@ -127,44 +127,12 @@ std::unique_ptr<ibr::ImageLoader> FrameBuilder::makeLoader() const {
                                             settings_.decodeMemoryBytes, settings_.blend.masks);
 }
 
-// Puts a decoded photograph into a slot (a free one, else the least recently used one that this
-// frame does not need) and marks its depth map dirty. A decoding error marks the photo broken.
-void FrameBuilder::install(ibr::LoadResult&& r, bool neededNow) {
-  const Photo& p = scene_.photos[size_t(r.photo)];
-  if (!r.ok()) {
-    diag_.error(r.error + " (camera '" + p.camera.id + "' skipped)");
-    if (scene_.missing) scene_.missing->add({"photograph", p.imagePath, r.error});
-    photoBroken_[size_t(r.photo)] = true;
-    return;
-  }
-  const ibr::SlotCache::Grant grant = cache_.acquire(r.photo, neededNow);
-  if (!grant) return;  // every slot pinned (it will be asked for again)
-  const std::string size = std::to_string(r.imageWidth) + "x" + std::to_string(r.imageHeight);
-  if (!grant.isNew) {
-    // Already there: the full image replaces its preview. A preview is the same image scaled
-    // down uniformly, made into the same slice layout, so the projection and the depth map stay.
-    if (!r.preview && slotPreview_[size_t(grant.slot)]) {
-      backend_.uploadImage(grant.slot, r.slice);
-      slotPreview_[size_t(grant.slot)] = false;
-      log::debug("camera '" + p.camera.id + "': image " + size + " replaces its preview in slot " +
-                 std::to_string(grant.slot));
-    }
-    return;
-  }
-  depthScheduler_.markDirty(grant.slot);
-  slotFrustum_[size_t(grant.slot)] = depthFrustum(r.photo);
-  backend_.uploadImage(grant.slot, r.slice);
-  slotPreview_[size_t(grant.slot)] = r.preview;
-  if (r.preview) log::debug("camera '" + p.camera.id + "': preview " + size + " in slot " + std::to_string(grant.slot));
-  ++stats_.imagesLoaded;
-}
-
 // Residency (de Castro & Brédif 2022 §2.1): pins the plan's resident photos, asks the loader for
 // the others (nearest first) and installs what it delivers: all of them in batch frames
 // (waiting), what is ready in progressive ones. Returns false when a planned photo turned out broken.
 bool FrameBuilder::makeResident(FrameMode mode) {
   cache_.unpinAll();
-  std::vector<int> missing;
+  std::vector<int> missing, larger;
   std::vector<ibr::LoadRequest> requests;
   for (const auto& im : plan_.images) {
     if (layeredPhoto(im.photo)) {
@@ -173,7 +141,11 @@ bool FrameBuilder::makeResident(FrameMode mode) {
         if (!cache_.pin(key)) installSubImage(key);
       continue;
     }
-    if (cache_.pin(im.photo)) continue;
+    if (cache_.pin(im.photo)) {
+      // Resident as a smaller image whose larger one is loading: a batch frame waits for it.
+      if (slotPreview_[size_t(cache_.slotOf(im.photo))]) larger.push_back(im.photo);
+      continue;
+    }
     missing.push_back(im.photo);
     // A batch frame waits for the full images: no preview first.
     requests.push_back({im.photo, &scene_.photos[size_t(im.photo)], im.distance, mode != FrameMode::Batch});
@@ -185,7 +157,8 @@ bool FrameBuilder::makeResident(FrameMode mode) {
     install(std::move(r), needed(photo));
   };
   if (mode == FrameMode::Batch) {
-    loader_->wait(missing, sink);
+    larger.insert(larger.end(), missing.begin(), missing.end());
+    loader_->wait(larger, sink);
   } else {
     for (auto& r : loader_->poll()) sink(std::move(r));
   }

@@ -67,6 +67,8 @@ class FrameBuilder {
   // Renderer::setLayeredPhotograph: photograph `photo` is expanded into its sub-images when
   // selected (null: the photograph as it is). Empties the slots.
   void setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered);
+  // Renderer::replaceImage: photograph `photo`'s Photo::imagePath now names a larger image of it.
+  void replaceImage(int photo);
   // Renderer::setOrthophoto: handed to the backend with its map from the render frame.
   void setOrthophoto(std::shared_ptr<const Orthophoto> orthophoto);
   // The cache keys of a layered photograph's sub-images, in blending order (visibility layer, then
@@ -159,7 +161,7 @@ class FrameBuilder {
 
   SlotLayout layout_;
   ibr::SlotCache cache_;
-  std::vector<bool> slotPreview_;  // the slot holds a photograph's preview (its full image follows)
+  std::vector<bool> slotPreview_;  // the slot holds a smaller image of its photograph (the larger one follows)
   int previewsShown_ = 0;
   std::unique_ptr<ibr::ImageLoader> loader_;
   bool loaderMasks_ = true;

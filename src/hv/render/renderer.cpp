@@ -69,6 +69,7 @@ void Renderer::preload(const Camera& view) { impl_->builder.preload(view); }
 void Renderer::setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered) {
   impl_->builder.setLayeredPhotograph(photo, std::move(layered));
 }
+void Renderer::replaceImage(int photo) { impl_->builder.replaceImage(photo); }
 void Renderer::setOrthophoto(std::shared_ptr<const Orthophoto> orthophoto) {
   impl_->builder.setOrthophoto(std::move(orthophoto));
 }

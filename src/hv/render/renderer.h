@@ -133,6 +133,15 @@ class Renderer {
   // slots are emptied (every photograph is made resident again). Throws std::invalid_argument for
   // a photo index out of range or a sub-image without pixels.
   void setLayeredPhotograph(int photo, std::shared_ptr<const layers::LayeredPhotograph> layered);
+  // Photograph `photo`'s Photo::imagePath now names a larger image of it (the page's IIIF
+  // photographs: the preview they join with, then the full image; docs/services.md). A resident
+  // photograph keeps its slot, camera and depth map and is textured by the image it has until the
+  // new one is decoded and put in its place (the slice's mip levels redone from it); the frames
+  // are not converged meanwhile and a batch frame waits for it. A photograph not resident reads
+  // the new image when next needed. A new image that cannot be loaded leaves the one shown, the
+  // error naming the camera, the field and the file or URL. Throws std::invalid_argument for an
+  // index out of range.
+  void replaceImage(int photo);
   // The orthophoto draped on untextured terrain (scene.json "orthophoto", read by
   // hv::loadOrthophoto beside the scene; settings().untextured.orthophoto switches it): uploaded
   // now. Null or empty: none.
