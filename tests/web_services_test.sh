@@ -179,9 +179,20 @@ check "lighttpd's log: WFS GetFeature as GeoJSON, paged" grep -q 'REQUEST=GetFea
 check "lighttpd's log: WCS GetCoverage as text/plain" grep -q 'REQUEST=GetCoverage&FORMAT=text%2Fplain' "$log"
 
 # --- cameras from the WFS layer, photographs from IIIF (tests/web/web_services_cameras_test.mjs)
-python3 - "$city" "$URL" "$iiif" <<'PY'
+# With iipsrv: the fault proxy (tests/services/fault_proxy.py) in front of the stack, for
+# photographs whose previews arrive and whose full images answer 404 (the fault 404-wide).
+purl=
+if ((iiif)); then
+  pport=$(free_port)
+  python3 tests/services/fault_proxy.py "$pport" "$URL" "$DIR/proxy.log" >"$DIR/proxy.out" 2>&1 &
+  proxy_pid=$!
+  for _ in $(seq 50); do grep -q "fault proxy on" "$DIR/proxy.out" 2>/dev/null && break; sleep 0.1; done
+  check "fault proxy started" grep -q "fault proxy on" "$DIR/proxy.out"
+  purl=http://127.0.0.1:$pport
+fi
+python3 - "$city" "$URL" "$iiif" "$purl" <<'PY'
 import json, sqlite3, struct, sys
-city, url, iiif = sys.argv[1], sys.argv[2], sys.argv[3] == "1"
+city, url, iiif, purl = sys.argv[1], sys.argv[2], sys.argv[3] == "1", sys.argv[4]
 web = city + "/web"
 base = {"format": "histoview-services", "version": 1, "crs": "EPSG:2154",
         "terrain": {"path": f"WCS:{url}/mapserv?map=city&SERVICE=WCS&VERSION=2.0.1&COVERAGEID=dtm"},
@@ -204,6 +215,11 @@ if iiif:
         c["image"] = f"{url}/iiif?IIIF={c['id']}.tif/info.json"
     json.dump(cams, open(web + "/cameras-iiif.json", "w"))
     describe(web + "/services-iiif-file.json", "scene_web.json", "cameras-iiif.json")
+    # Every photograph through the proxy: the previews pass, the full images answer 404.
+    for c in cams["cameras"]:
+        c["image"] = f"{purl}/404-wide/iiif?IIIF={c['id']}.tif/info.json"
+    json.dump(cams, open(web + "/cameras-iiif-full-404.json", "w"))
+    describe(web + "/services-iiif-full-404.json", "scene_web.json", "cameras-iiif-full-404.json")
     db = sqlite3.connect(city + "/cameras.gpkg")
     # The GeoPackage's R-tree triggers call SQL functions of GDAL / SpatiaLite: the few they use,
     # for points (the geometry is not changed; they fire on any update).
@@ -229,7 +245,8 @@ page=$URL/files/web/index.html
 args=(--files "$page?$query" --wfs "$page?scene=../services-wfs-cameras.json&$query"
       --malformed "$page?scene=../services-malformed.json&$query" --missing "$page?scene=services-404.json&$query"
       --photos "$photo_count" --out "$DIR")
-((iiif)) && args+=(--iiif-file "$page?scene=services-iiif-file.json&$query")
+((iiif)) && args+=(--iiif-file "$page?scene=services-iiif-file.json&$query"
+                   --iiif-full-404 "$page?scene=services-iiif-full-404.json&$query")
 timeout -k 5 400 node tests/web/web_services_cameras_test.mjs "${args[@]}" >"$DIR/node-cameras.out" 2>&1
 node_rc=$?
 cat "$DIR/node-cameras.out"

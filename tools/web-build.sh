@@ -33,7 +33,8 @@ cmake --build build-web -j"${HV_JOBS:-$(nproc)}" -- -k 0
 # npm or the registry the page still works: such a scene's earth-centred points then need "files".
 deps=tools/web-deps
 want=$(sed -n 's/.*"proj4": "\([^"]*\)".*/\1/p' $deps/package.json)
-have=$(sed -n 's/^ *"version": "\([^"]*\)".*/\1/p' $deps/node_modules/proj4/package.json 2>/dev/null | head -1)
+# (nothing installed yet: sed fails, which pipefail and -e must not turn into the script's end)
+have=$(sed -n 's/^ *"version": "\([^"]*\)".*/\1/p' $deps/node_modules/proj4/package.json 2>/dev/null | head -1 || true)
 if [[ $have != "$want" ]] && command -v npm >/dev/null; then
   (cd $deps && npm ci --no-audit --no-fund >/dev/null) || echo "web-build: proj4 $want not installed (npm failed)" >&2
 fi

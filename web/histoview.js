@@ -14,7 +14,8 @@
 // The address bar keeps the current view (history.replaceState): the pose and the render settings
 // changed from the page's defaults (the time window `from`/`to`, the traffic's `time` among them),
 // so a copied link opens the same view.
-// For scripts and tests, window.hv exposes the state (loaded, progress, errors) and a few calls.
+// For scripts and tests, window.hv exposes the state (loaded, fraction, progress and missing,
+// errors) and a few calls.
 'use strict';
 
 (() => {
@@ -30,7 +31,11 @@
   canvas.width = W;
   canvas.height = H;
 
-  const hv = window.hv = { loaded: false, progress: 0, errors: [], status: null, viewer: null };
+  const hv = window.hv = { loaded: false, fraction: 0, errors: [], status: null, viewer: null };
+  // Per source what has arrived, and what is missing (services_progress.js; the status panel).
+  const sources = window.hvServiceProgress.create($('sources'));
+  hv.progress = sources.progress;
+  hv.missing = sources.missing;
 
   function showError(message) {
     const text = String(message);
@@ -44,7 +49,7 @@
   window.addEventListener('unhandledrejection', (e) => showError(e.reason && e.reason.message ? e.reason.message : e.reason));
 
   function setProgress(value, text) {
-    hv.progress = value;
+    hv.fraction = value;
     $('progress').value = value;
     $('progress-text').textContent = text;
   }
@@ -105,7 +110,7 @@
     let sceneBase = location.href, photoBase = location.href, viewsUrl = null, manifest;
     if (params.get('scene')) {
       const s = await window.hvServices.loadServiceScene(new URL(params.get('scene'), location.href).href, put,
-                                                         { Module, root: ROOT });
+                                                         { Module, root: ROOT, progress: sources });
       ({ manifest, sceneBase, photoBase, viewsUrl } = s);
       hv.services = s.info;
       (s.info.errors || []).forEach(showError);
@@ -146,6 +151,7 @@
     }
     const loadErrors = viewer.load(ROOT + 'scene_web.json');
     if (loadErrors) loadErrors.trim().split('\n').forEach(showError);
+    sources.cameraLayerErrors(loadErrors, manifest.cameras && manifest.cameras.urls);
     console.log('histoview: ' + viewer.glInfo());
     const st = JSON.parse(viewer.status());
     console.log(`histoview: scene read in ${st.sceneMs.toFixed(0)} ms` +
@@ -178,15 +184,25 @@
     const rel = (p) => p.startsWith(ROOT) ? p.slice(ROOT.length) : p;
     // By path, by URL or from IIIF (services_cameras.js); the bytes fetched, previews apart.
     hv.photoBytes = { previews: 0, previewBytes: 0, images: 0, imageBytes: 0 };
+    const iiif = order.filter((i) => window.hvServiceCameras.isIiifInfo(photos[i].image)).length;
+    let photosFailed = 0;
+    const photoProgress = (more) => sources.set('photographs', Object.assign({
+      previews: hv.photoBytes.previews, previewsOf: iiif, full: hv.photoBytes.images, of: order.length, failed: photosFailed }, more));
+    photoProgress({});
     window.hvServiceCameras.fetchPhotographs(viewer, photos, order, {
       put, fetchBytes, photoBase, rel, inFlight: FETCHES_IN_FLIGHT,
       arrived: (i, bytes) => {
         const li = document.querySelector('#photos li[data-index="' + i + '"]');
         if (li) { li.classList.remove('pending'); addThumbnail(li, bytes, photos[i].id); }
+        photoProgress({});
       },
-      failed: (p, e) => showError('photograph ' + p.id + ': ' + e.message),
-      done: () => { done++; },
-    }, hv.photoBytes).then(() => { hv.fetched = true; });
+      failed: (p, e) => {
+        showError('photograph ' + p.id + ': ' + e.message);
+        photosFailed++;
+        sources.add('photograph', e.url || p.image, e.message);
+      },
+      done: () => { done++; photoProgress({}); },
+    }, hv.photoBytes).then(() => { hv.fetched = true; photoProgress({ done: true }); });
 
     // The frame loop: input, then a progressive frame when something changed.
     // Keys as events: `keys` are down now, `tapped` went down since the last frame, so a tap
@@ -237,7 +253,7 @@
       setProgress(complete ? 1 : SCENE_SHARE + (0.95 - SCENE_SHARE) * fetched, complete ? 'loaded' :
                   `photographs ${s.arrived}/${s.photos}, ${s.imagesLoaded || 0} decoded`);
       $('loading').hidden = complete;
-      if (complete && !hv.loaded) { hv.loaded = true; console.log('histoview: loading complete'); }
+      if (complete && !hv.loaded) { hv.loaded = true; sources.finish(); console.log('histoview: loading complete'); }
       $('status').textContent = `frame ${s.lastFrameMs.toFixed(1)} ms\nimages ${s.selected || 0} selected, ` +
         `${s.waiting || 0} waiting\ndepth maps ${s.depthMaps || 0}\n` +
         (s.points ? `points ${(s.pointsDrawn || 0).toLocaleString('en')} drawn\n` : '') +

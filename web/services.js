@@ -48,6 +48,8 @@ window.hvServices = (() => {
     const desc = JSON.parse((await fetchText(descUrl)).text);
     if (desc.format !== 'histoview-services') throw new Error(descUrl + ': not a service scene ("format": "histoview-services" expected)');
     const info = { description: descUrl, featurePages: 0, features: 0, requests: [], errors: [], local: [] };
+    // Each source's counts as its answers arrive, and what is left out (services_progress.js).
+    const P = (ctx && ctx.progress) || window.hvServiceProgress.create(null);
     // With "files", the web export's manifest (origin, up, terrain mesh, points, traffic, the
     // EPSG:4978 fit); without, a manifest made here (services_frame.js): the module meshes the
     // WCS grid and places the origin by the native loader's rules.
@@ -67,8 +69,12 @@ window.hvServices = (() => {
       if (!desc[field]) return;
       try {
         await load();
+        if (P.progress[field]) P.set(field, { done: true });
       } catch (e) {
         info.errors.push(descUrl + ': ' + field + ': ' + e.message + ' (' + field + ' left out)');
+        const where = desc[field] && typeof desc[field].path === 'string' ? desc[field].path : descUrl;
+        P.set(field, { done: true, failed: true });
+        P.add(field, where, e.message);
       }
     };
     const b = { geojson: [] };
@@ -83,6 +89,7 @@ window.hvServices = (() => {
         const doc = JSON.parse(text);
         info.featurePages++;
         info.features += (doc.features || []).length;
+        P.set('buildings', { service: bpath.startsWith('WFS:') ? 'WFS' : 'OGC API', pages: info.featurePages, features: info.features });
         return doc;
       };
       if (bpath.startsWith('WFS:')) {
@@ -132,8 +139,11 @@ window.hvServices = (() => {
       q.searchParams.set('REQUEST', 'GetCoverage');
       q.searchParams.set('FORMAT', 'text/plain');
       info.requests.push(q.href);
+      P.set('terrain', {});
       const r = await fetchText(q.href);
-      put('services/dtm.asc', new TextEncoder().encode(coveragePart(r.text, r.type)));
+      const grid = coveragePart(r.text, r.type);
+      P.set('terrain', window.hvServiceProgress.gridSize(grid) || {});
+      put('services/dtm.asc', new TextEncoder().encode(grid));
       b.dtm = 'services/dtm.asc';
       if (!desc.files) manifest.terrain = { grid: 'services/dtm.asc' };
     });
@@ -146,11 +156,15 @@ window.hvServices = (() => {
     await source('cameras', async () => {
       const cpath = servicePath(desc.cameras, 'expected a WFS, OGC API or cameras file source', '');
       if (/^(WFS|OAPIF):/.test(cpath)) {
-        manifest.cameras = await window.hvServiceCameras.loadCameraLayer(cpath, descUrl, crs, put, info);
+        manifest.cameras = await window.hvServiceCameras.loadCameraLayer(cpath, descUrl, crs, put, info, P);
       } else {
         const url = new URL(cpath, descUrl).href;
         info.requests.push(url);
-        put('cameras.json', new TextEncoder().encode((await fetchText(url)).text));
+        const text = (await fetchText(url)).text;
+        put('cameras.json', new TextEncoder().encode(text));
+        let count = 0;
+        try { count = (JSON.parse(text).cameras || []).length; } catch (e) { /* named by the module's reader */ }
+        P.set('cameras', { features: count });
         photoBase = url;
       }
     });

@@ -26,7 +26,8 @@ window.hvServiceCameras = (() => {
   // buildings are (services.js), in the scene CRS `crs`. Each page is put as it came: a page that
   // is not GeoJSON is named by its URL when the module reads it, and the paging stops there.
   // Returns the manifest's "cameras" entry; counts into info.cameraPages, info.cameraFeatures.
-  async function loadCameraLayer(path, descUrl, crs, put, info) {
+  // P: the page's progress tracker (services_progress.js), when there is one.
+  async function loadCameraLayer(path, descUrl, crs, put, info, P) {
     const layer = { geojson: [], urls: [] };
     info.cameraPages = 0;
     info.cameraFeatures = 0;
@@ -41,6 +42,7 @@ window.hvServiceCameras = (() => {
       try { doc = JSON.parse(text); } catch (e) { /* named by the module's reader */ }
       const features = doc && Array.isArray(doc.features) ? doc.features.length : 0;
       info.cameraFeatures += features;
+      if (P) P.set('cameras', { service: path.startsWith('WFS:') ? 'WFS' : 'OGC API', pages: info.cameraPages, features: info.cameraFeatures });
       return { doc, features };
     };
     if (path.startsWith('WFS:')) {
@@ -94,7 +96,8 @@ window.hvServiceCameras = (() => {
   // native image loader orders them) and replaces the preview in place (viewer.photoFullArrived,
   // Renderer::replaceImage). A full image that cannot be fetched leaves the preview, named.
   // `o`: {put(rel, bytes), fetchBytes(url), photoBase, rel(fsPath), inFlight, arrived(i, bytes)
-  // (its list entry, when it joins), failed(photo, error), done() (once per photograph, when it
+  // (its list entry, when it joins), failed(photo, error: a full image's that failed after its
+  // preview joined has `url`, the full image's, and `previewShown`), done() (once per photograph, when it
   // is complete or has failed)}; `bytes` counts what came, previews apart:
   // {previews, previewBytes, images, imageBytes}.
   function fetchPhotographs(viewer, photos, order, o, bytes) {
@@ -135,7 +138,10 @@ window.hvServiceCameras = (() => {
       try {
         b = await o.fetchBytes(url);
       } catch (e) {
-        throw new Error(e.message + ' (its preview kept)');
+        const err = new Error(e.message + ' (its preview shown)');
+        err.url = url;
+        err.previewShown = true;
+        throw err;
       }
       putUrl(url, count(b, false));
       viewer.photoFullArrived(i);

@@ -38,6 +38,10 @@ window.hvServiceLayers = (() => {
     // Whatever happens below, the export's points are not the ones asked for.
     delete manifest.points;
     const p = info.points = { tileset: url, requests: [], count: 0, tilesRead: 0, tilesKept: 0, failed: 0 };
+    // The page's progress (services_progress.js): tiles fetched of those asked so far.
+    const P = ctx.progress, tilesAsked = { tiles: 0, of: 0, failed: 0 };
+    const tell = (more) => P && P.set('points', Object.assign(tilesAsked, more));
+    tell({});
     const text = await (await fetchOk(url, '3D Tiles tileset')).text();
     p.requests.push(url);
     const tiles = new ctx.Module.WebPointTiles();
@@ -47,13 +51,17 @@ window.hvServiceLayers = (() => {
                               num(src.tolerance, DEFAULT_TOLERANCE), num(src.budget, DEFAULT_BUDGET));
       if (err) throw new Error(err);
       for (let batch = JSON.parse(tiles.next()); batch.length; batch = JSON.parse(tiles.next())) {
+        tell({ of: tilesAsked.of + batch.length });
         await pool(batch, TILE_FETCHES, async ({ tile, url: tileUrl }) => {
           p.requests.push(tileUrl);
           try {
             const bytes = new Uint8Array(await (await fetchOk(tileUrl, 'points tile')).arrayBuffer());
             tiles.arrived(tile, bytes);
+            tell({ tiles: tilesAsked.tiles + 1 });
           } catch (e) {
             tiles.failed(tile, e.message);
+            tell({ failed: tilesAsked.failed + 1 });
+            if (P) P.add('point tile', tileUrl, e.message);
           }
         });
       }
@@ -62,6 +70,12 @@ window.hvServiceLayers = (() => {
       Object.assign(p, { count: r.count, tilesRead: r.tilesRead, tilesKept: r.tilesKept, tilesInTileset: r.tilesInTileset,
                          bytes: r.pntsBytes, failed: r.errors.length, maxFitError: r.maxFitError });
       info.errors.push(...r.errors);
+      // A tile fetched but not read (the module names it by its URL) is missing too.
+      if (P) for (const e of r.errors) {
+        const at = /^(https?:\/\/\S+?): /.exec(e);
+        if (at && !P.missing.some((m) => m.location === at[1])) P.add('point tile', at[1], e);
+      }
+      tell({ count: r.count, done: true });
       for (const n of r.notes) console.warn('histoview: ' + url + ': ' + n);
       if (r.budgetLimited) console.warn(`histoview: ${url}: the point budget stopped the refinement`);
       if (r.count > 0) {
@@ -104,6 +118,7 @@ window.hvServiceLayers = (() => {
       caps.searchParams.set('REQUEST', 'GetCapabilities');
     }
     const o = info.orthophoto = { capabilities: caps.href, requests: [caps.href], tiles: 0, failed: 0 };
+    const P = ctx.progress, tell = (more) => P && P.set('orthophoto', Object.assign({ tiles: o.tiles, failed: o.failed }, more));
     const xml = await (await fetchOk(caps.href, 'WMTS capabilities')).text();
     const doc = new DOMParser().parseFromString(xml, 'application/xml');
     const contents = doc.getElementsByTagNameNS('*', 'Contents')[0];
@@ -170,6 +185,7 @@ window.hvServiceLayers = (() => {
     const g = mosaic.getContext('2d', { willReadFrequently: true });
     const tiles = [];
     for (let r = r0; r <= r1; ++r) for (let c = c0; c <= c1; ++c) tiles.push([r, c]);
+    tell({ of: tiles.length });
     await pool(tiles, TILE_FETCHES, async ([r, c]) => {
       const url = tileUrl(r, c);
       o.requests.push(url);
@@ -184,9 +200,12 @@ window.hvServiceLayers = (() => {
         g.drawImage(bitmap, (c - c0) * m.tw, (r - r0) * m.th);
         bitmap.close();
         o.tiles++;
+        tell({});
       } catch (e) {
         o.failed++;
         info.errors.push(e.message + ' (left transparent: untextured terrain shaded there)');
+        tell({});
+        if (P) P.add('orthophoto tile', url, e.message);
       }
     });
     // Bilinear onto the rectangle's pixels (pixel centres; clamped to the mosaic's edges).
@@ -208,6 +227,7 @@ window.hvServiceLayers = (() => {
     info.local.push('services/orthophoto.rgba');
     manifest.orthophoto = { path: 'services/orthophoto.rgba', width: cols, height: rows, rect, source: path };
     Object.assign(o, { width: cols, height: rows, matrix: m.id, metresPerPixel: pw });
+    tell({ width: cols, height: rows, done: true });
     console.log(`histoview: ${caps.href}: orthophoto ${cols} x ${rows} px from ${o.tiles} tiles of matrix ${m.id}`);
   }
 
@@ -224,6 +244,11 @@ window.hvServiceLayers = (() => {
         await load(desc, descUrl, manifest, ctx, info);
       } catch (e) {
         info.errors.push(e.message + ` (${name} left out)`);
+        if (ctx.progress) {
+          const src = desc[name], where = src && typeof (src.tileset || src.path) === 'string' ? src.tileset || src.path : descUrl;
+          ctx.progress.set(name, { done: true, failed: true });
+          ctx.progress.add(name, where, e.message);
+        }
       }
     }
   }

@@ -17,6 +17,10 @@ later, part-way. Faults:
     truncated   the status line and headers, a Content-Length of the whole, then half the body
     malformed   the body replaced by a broken document of the same kind (XML, JSON) with a
                 correct Content-Length
+    404-wide    404 for IIIF image requests wider than HV_FAULT_WIDTH pixels (default 256, the
+                preview's box, hv/io/iiif.h), the rest passed through: a photograph's preview
+                arrives and its full image fails; its info.json's id is made to point through the
+                proxy (below)
 
 Links to UPSTREAM in the answers (OGC API "next" and "items", the capabilities' online resources)
 are rewritten to go through the proxy with the same fault. Each request is logged to LOG as one line: "<fault> <method> <path>". Listens on 127.0.0.1 only.
@@ -24,18 +28,21 @@ are rewritten to go through the proxy with the same fault. Each request is logge
 import http.client
 import http.server
 import os
+import re
 import socket
 import struct
 import sys
 import threading
 import time
+import urllib.parse
 
 PORT, UPSTREAM, LOG = int(sys.argv[1]), sys.argv[2].rstrip("/"), sys.argv[3]
 UP_HOST, UP_PORT = UPSTREAM.split("//", 1)[1].split(":")
 UP_PORT = int(UP_PORT)
 SLOW_S = float(os.environ.get("HV_FAULT_SLOW_S", "8"))
 RATE = float(os.environ.get("HV_FAULT_RATE", "16384"))
-FAULTS = {"ok", "404", "500", "503", "slow", "reset", "truncated", "malformed", "throttled"}
+WIDTH = int(os.environ.get("HV_FAULT_WIDTH", "256"))
+FAULTS = {"ok", "404", "500", "503", "slow", "reset", "truncated", "malformed", "throttled", "404-wide"}
 log_lock = threading.Lock()
 
 
@@ -87,6 +94,11 @@ class Proxy(http.server.BaseHTTPRequestHandler):
             return self.reply(400, f"unknown fault '{fault}'\n".encode())
         if data_only and not is_data(rest):
             base = "ok"
+        if base == "404-wide":
+            # A IIIF size "w," or "w,h" (Image API 2; "!w,h" and "pct:" are not asked for by histoview).
+            m = re.search(r"/full/!?(\d+),", urllib.parse.unquote(rest))
+            if m and int(m.group(1)) > WIDTH:
+                return self.reply(404, f"injected 404 for an image wider than {WIDTH} px: {rest}\n".encode())
         if base in ("404", "500", "503"):
             return self.reply(int(base), f"injected {base} for {rest}\n".encode())
         if base == "reset":
@@ -110,7 +122,7 @@ class Proxy(http.server.BaseHTTPRequestHandler):
         # Links in the answer (OGC API "items" and "next", capabilities' online resources) point
         # at the stack: made to point back through the proxy, with the same fault.
         if ctype.startswith(("application/json", "application/geo+json", "text/xml", "application/xml",
-                             "application/gml+xml", "text/html")):
+                             "application/gml+xml", "text/html")) or (base == "404-wide" and "json" in ctype):
             body = body.replace(f"http://{UP_HOST}:{UP_PORT}/".encode(),
                                 f"http://127.0.0.1:{PORT}/{fault}/".encode())
         if base == "truncated":

@@ -2,7 +2,7 @@
 // the photographs from a IIIF image service itself (run by tests/web_services_test.sh; docs/services.md,
 // "In the browser").
 //   node tests/web/web_services_cameras_test.mjs --files URL --wfs URL --malformed URL --missing URL
-//        --photos N --out DIR [--iiif-file URL]
+//        --photos N --out DIR [--iiif-file URL --iiif-full-404 URL]
 // --files: the export's page; --wfs: the same view with ?scene= a description whose cameras come
 // from the WFS layer (ms:cameras; with --iiif-file, its images are IIIF descriptions of iipsrv);
 // --iiif-file: the same with the cameras from the export's cameras file by URL, the images from
@@ -15,7 +15,13 @@
 // images held, every photograph joins with its preview and the frame is textured by them; with the
 // full images let through, the converged frame is the freely fetching page's. Faults: --malformed, a camera layer that is
 // not GeoJSON: an error naming its URL, the buildings still read and the page completes;
-// --missing, one photograph answering 404: an error naming its URL, the others arrive.
+// --missing, one photograph answering 404: an error naming its URL, the others arrive;
+// --iiif-full-404, --iiif-file with the photographs through the fault proxy, whose previews
+// arrive and whose full images answer 404: the previews stay (every photograph joined, the frame
+// the staged page's with the previews in), the errors and hv.missing name each full image's URL
+// and say the preview is shown.
+// Each page's hv.progress (web/services_progress.js) counts what was read (cameras, previews, full
+// images), and hv.missing and the status panel name what was not, by kind and URL.
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -45,7 +51,9 @@ async function open(url, name, { expectErrors = false } = {}) {
   await page.waitForFunction(() => window.hv && (window.hv.loaded || (!window.hv.viewer && window.hv.errors.length > 0)),
                              null, { timeout: 120000, polling: 250 });
   const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, status: hv.status, services: hv.services || null,
-                                             photoBytes: hv.photoBytes || null, text: document.getElementById('status').textContent }));
+                                             photoBytes: hv.photoBytes || null, text: document.getElementById('status').textContent,
+                                             progress: hv.progress, missing: hv.missing,
+                                             sources: document.getElementById('sources').textContent }));
   console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
   check(state.loaded, `${name}: the page reports loading complete`);
   if (!expectErrors)
@@ -91,7 +99,8 @@ async function openStaged(url, name) {
     if (open[kind]) route.continue(); else held[kind].push(route);
   });
   const state = () => page.evaluate(() => ({ status: hv.status, photoBytes: hv.photoBytes, loaded: hv.loaded, errors: hv.errors,
-                                             text: document.getElementById('status').textContent }));
+                                             text: document.getElementById('status').textContent, progress: hv.progress,
+                                             missing: hv.missing, sources: document.getElementById('sources').textContent }));
   const until = (fn, arg) => page.waitForFunction(fn, arg, { timeout: 120000, polling: 250 });
   await page.goto(url);
   // Nothing can arrive: the first frames have no photograph.
@@ -139,6 +148,10 @@ try {
   check(s && s.cameraFeatures === photos && s.cameraPages >= 1 && wfs.state.status.photos === photos,
         `wfs-cameras: ${s ? s.cameraFeatures : 0} cameras from the WFS in ${s ? s.cameraPages : 0} page(s), ` +
         `${wfs.state.status.photos} photographs (${photos} expected)`);
+  const pc = wfs.state.progress.cameras;
+  check(pc && pc.done && pc.service === 'WFS' && pc.features === photos && pc.pages === s.cameraPages &&
+        wfs.state.sources.includes(`cameras WFS page ${s.cameraPages}, ${photos} cameras`),
+        `wfs-cameras: hv.progress.cameras and the panel: ${pc ? pc.features : 0} cameras (${photos} expected)`);
   check(wfs.requests.some((u) => /REQUEST=GetFeature&TYPENAMES=ms%3Acameras/.test(u)) &&
         !wfs.requests.some((u) => /\/cameras[^/]*\.json$/.test(u)),
         'wfs-cameras: the page asked the WFS for the cameras (and fetched no cameras file)');
@@ -152,6 +165,11 @@ try {
       check(/photographs [\d.]+ MB \(\d+\), previews [\d.]+ MB \(\d+\)/.test(p.state.text), `${name}: the status reports the bytes fetched, previews apart`);
       const order = p.requests.filter((u) => /IIIF=/.test(u)).map((u) => (/info\.json/.test(u) ? 'info' : 'image'));
       check(order[0] === 'info', `${name}: the description asked first`);
+      const pp = p.state.progress.photographs;
+      check(pp && pp.done && pp.previews === photos && pp.previewsOf === photos && pp.full === photos && pp.of === photos &&
+            p.state.sources.includes(`photographs ${photos} of ${photos} previews, ${photos} of ${photos} full`) &&
+            p.state.missing.length === 0,
+            `${name}: hv.progress.photographs and the panel: ${photos} of ${photos} previews, ${photos} of ${photos} full; nothing missing`);
     }
     compare(wfs, iiif, 'cameras from the WFS vs from the cameras file (photographs from IIIF)', 45);
     // Previews first: the photographs join with their previews while the full images are held.
@@ -162,6 +180,10 @@ try {
     check(st.previewState.photoBytes.images === 0 && st.fullsHeld > 0 && !st.previewState.loaded,
           `iiif-staged: every photograph joined with its preview, no full image in (${st.fullsHeld} held)`);
     check(/previews [\d.]+ MB \(\d+\)/.test(st.previewState.text), 'iiif-staged: the status reports the previews\' bytes');
+    console.log('iiif-staged: sources while the full images are held: ' + st.previewState.sources.replace(/\n/g, ' | '));
+    check(st.previewState.sources.startsWith('sources\n') &&
+          st.previewState.sources.split('\n').includes(`photographs: ${photos} of ${photos} previews, 0 of ${photos} full`),
+          'iiif-staged: while loading, the panel has a line per source, the photographs\' counting the previews in and no full image');
     const untextured = psnr(st.none, st.converged), byPreviews = psnr(st.previews, st.converged);
     console.log(`iiif-staged: against the converged frame: no photograph ${untextured.toFixed(2)} dB, previews ${byPreviews.toFixed(2)} dB`);
     check(byPreviews >= 20 && byPreviews >= untextured + 6 && byPreviews < 60,
@@ -172,6 +194,27 @@ try {
     compare({ rgba: st.converged.rgba }, iiif, 'iiif-staged converged vs the page fetching freely', 45);
     compare({ rgba: st.converged.rgba }, files, 'iiif-staged converged vs files (iipsrv re-encodes as JPEG)', 30);
     compare(wfs, files, 'services (WFS cameras, IIIF photographs) vs files (iipsrv re-encodes as JPEG)', 30);
+    if (args['iiif-full-404']) {
+      const f = await open(args['iiif-full-404'], 'iiif-full-404', { expectErrors: true });
+      const fm = f.state.missing, fp = f.state.progress.photographs, fb = f.state.photoBytes;
+      console.log('iiif-full-404: ' + f.state.errors[0] + '; sources: ' + f.state.sources.split('\n').slice(0, 3).join(' | '));
+      const full404 = /^http:\/\/[^ ]*\/404-wide\/iiif\?IIIF=[^ ]*\/full\/\d+,[^ ]*$/;
+      check(f.state.errors.length === photos && f.state.errors.every((e) => /^photograph \S+: (\S+): HTTP 404 \(its preview shown\)$/.test(e) &&
+                                                                         full404.test(e.split(' ')[2].replace(/:$/, ''))),
+            `iiif-full-404: ${f.state.errors.length} errors (${photos} expected), each naming the full image's URL and that the preview is shown`);
+      check(fm.length === photos && fm.every((m) => m.kind === 'photograph' && full404.test(m.location) && m.reason === 'HTTP 404 (its preview shown)') &&
+            f.state.sources.includes(`\nmissing: ${photos} photographs\n`) &&
+            f.state.sources.includes('  photograph: ' + fm[0].location + ': HTTP 404 (its preview shown)'),
+            'iiif-full-404: hv.missing and the panel: each full image by its URL, its preview shown');
+      check(f.state.status.arrived === photos && fb.previews === photos && fb.images === 0 &&
+            fp.previews === photos && fp.full === 0 && fp.failed === photos &&
+            f.state.sources.includes(`photographs ${photos} of ${photos} previews, 0 of ${photos} full, ${photos} failed`),
+            `iiif-full-404: every photograph joined by its preview (${f.state.status.arrived} of ${photos}), no full image`);
+      compare(f, st.previews, 'iiif-full-404 vs the staged page with the previews in (the previews stay)', 45);
+      const q = psnr(f, iiif);
+      console.log(`iiif-full-404 vs the full images: ${q.toFixed(2)} dB`);
+      check(q < 60, 'iiif-full-404: not the full images\' frame (< 60 dB)');
+    }
   } else {
     compare(wfs, files, 'services (WFS cameras) vs files', 45);
   }
@@ -180,10 +223,24 @@ try {
   check(bad.errors.some((e) => /\/files\/malformed-cameras\.json\?[^ ]*REQUEST=GetFeature[^ ]*: not valid JSON/.test(e)),
         'malformed-layer: the error names the layer\'s URL and says it is not valid JSON');
   check(bad.state.services && bad.state.services.features === BUILDINGS, `malformed-layer: the buildings still read (${BUILDINGS})`);
+  console.log('malformed-layer: missing: ' + JSON.stringify(bad.state.missing));
+  check(bad.state.missing.some((m) => m.kind === 'cameras' && /\/files\/malformed-cameras\.json\?.*REQUEST=GetFeature/.test(m.location) &&
+                                      /not valid JSON/.test(m.reason)) &&
+        /^missing: cameras \(http:\/\/[^ ]*malformed-cameras\.json/m.test(bad.state.sources),
+        'malformed-layer: hv.missing and the panel name the camera layer\'s page by its URL');
   const missing = await open(args.missing, 'missing-photograph', { expectErrors: true });
   console.log('missing-photograph: ' + missing.errors.join(' | '));
   check(missing.state.errors.length === 1 && /^photograph \S+: \S*\/files\/web\/images\/missing\.jpg: HTTP 404/.test(missing.state.errors[0]),
         'missing-photograph: one error, naming the URL and the status');
+  const mm = missing.state.missing, mp = missing.state.progress.photographs;
+  console.log('missing-photograph: sources: ' + missing.state.sources.replace(/\n/g, ' | '));
+  check(mm.length === 1 && mm[0].kind === 'photograph' && /\/files\/web\/images\/missing\.jpg$/.test(mm[0].location) &&
+        /HTTP 404/.test(mm[0].reason) && missing.state.sources.includes('missing: photograph (' + mm[0].location + ')') &&
+        missing.state.sources.includes('photograph: ' + mm[0].location + ': '),
+        'missing-photograph: hv.missing and the panel: the photograph, by its URL, and why');
+  check(mp && mp.failed === 1 && mp.full === photos - 1 && mp.of === photos &&
+        missing.state.sources.includes(`photographs ${photos - 1} of ${photos}, 1 failed`),
+        `missing-photograph: hv.progress.photographs: ${photos - 1} of ${photos}, 1 failed`);
   check(missing.state.status.arrived === photos - 1, `missing-photograph: the others arrived (${missing.state.status.arrived} of ${photos - 1})`);
 } catch (e) {
   check(false, 'the test ran: ' + (e && e.stack ? e.stack : e));

@@ -40,7 +40,8 @@ async function open(url, name, errorsExpected) {
   await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.some((e) => !/left out\)$/.test(e))),
                              null, { timeout: 120000, polling: 250 });
   const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, services: hv.services || null,
-                                             status: hv.status }));
+                                             status: hv.status, progress: hv.progress, missing: hv.missing,
+                                             sources: document.getElementById('sources').textContent }));
   console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s` + (state.errors.length ? ': ' + state.errors.join(' | ') : ''));
   check(state.loaded, `${name}: the page reports loading complete`);
   if (!errorsExpected)
@@ -82,6 +83,14 @@ try {
   check(p && p.count === fp && p.count > 0 && p.tilesKept === p.tilesInTileset,
         `services-points: every tile read, ${p ? p.count : 0} points (the export has ${fp})`);
   check(points.state.status && points.state.status.pointsDrawn > 0, 'services-points: the point pass drew the points');
+  // The progress per source (web/services_progress.js): the tiles fetched are the tiles read.
+  const pp = points.state.progress.points;
+  const pnts = points.requests.filter((u) => /\.pnts$/.test(u)).length;
+  console.log('services-points: ' + points.state.sources);
+  check(pp && pp.done && pp.tiles === p.tilesRead && pp.of === p.tilesRead && pp.tiles === pnts && pp.count === p.count &&
+        points.state.sources.includes(`points ${pnts} of ${pnts} tiles, ${p.count.toLocaleString('en')} points`) &&
+        points.state.missing.length === 0,
+        `services-points: hv.progress.points and the panel: ${pp ? pp.tiles : 0} of ${pp ? pp.of : 0} tiles (${pnts} pnts fetched); nothing missing`);
   check(points.requests.some((u) => /\/tileset\.json$/.test(u)) && points.requests.some((u) => /\.pnts$/.test(u)),
         'services-points: the page fetched tileset.json and pnts tiles');
   check(!points.requests.some((u) => /points\.bin/.test(u)) && files.requests.some((u) => /points\.bin/.test(u)),
@@ -99,12 +108,25 @@ try {
   const p404 = f404.state.services && f404.state.services.points;
   check(e404.some((e) => /\/tiles-404\/[^ ]+\.pnts: points tile: HTTP 404 \(tile root[^ ]* left out\)/.test(e)),
         'points-404: the missing tile named with its URL and status');
+  const m404 = f404.state.missing;
+  console.log('points-404: missing: ' + JSON.stringify(m404));
+  check(m404.length === 1 && m404[0].kind === 'point tile' && /\/tiles-404\/[^ ]+\.pnts$/.test(m404[0].location) &&
+        /HTTP 404/.test(m404[0].reason) && f404.state.sources.includes('missing: point tile (' + m404[0].location + ')'),
+        'points-404: hv.missing and the panel: the point tile, by its URL, and why');
+  const pp404 = f404.state.progress.points;
+  check(pp404 && pp404.failed === 1 && pp404.tiles === pp404.of - 1 && f404.state.sources.includes(`points ${pp404.tiles} of ${pp404.of} tiles, 1 failed`),
+        `points-404: hv.progress.points: ${pp404 ? pp404.tiles : 0} of ${pp404 ? pp404.of : 0} tiles, 1 failed`);
   check(p404 && p404.failed === 1 && p404.count > 0 && p404.count < p.count,
         `points-404: the other tiles' points render (${p404 ? p404.count : 0} of ${p.count})`);
   const fbad = await open(pointsBadUrl, 'points-bad', true);
   const ebad = fbad.state.errors;
   check(ebad.some((e) => /\/tiles-bad\/tileset\.json: .*expected .* \(points left out\)/.test(e)),
         'points-bad: the malformed tileset.json named with what was expected');
+  const mbad = fbad.state.missing;
+  check(mbad.length === 1 && mbad[0].kind === 'points' && /\/tiles-bad\/tileset\.json$/.test(mbad[0].location) &&
+        /expected/.test(mbad[0].reason) && fbad.state.progress.points.text === 'left out' &&
+        /^missing: points \(http:[^ ]*\/tiles-bad\/tileset\.json\)$/m.test(fbad.state.sources),
+        'points-bad: hv.missing and the panel: the points, by the tileset\'s URL, and why');
   const qbad = psnr(fbad.rgba, points.rgba);
   check(fbad.state.loaded && fbad.state.status && fbad.state.status.pointsDrawn === 0 && fbad.state.status.arrived > 0,
         'points-bad: the rest of the scene renders without points (' + shown(qbad) + ' against the points page)');
@@ -116,6 +138,10 @@ try {
     const size = (st) => (st.status && st.status.orthophoto ? st.status.orthophoto.join(' x ') : 'none');
     check(o && o.tiles > 0 && o.failed === 0 && size(os.state) === size(of.state) && size(of.state) !== 'none',
           `services-orthophoto: ${o ? o.tiles : 0} tiles mosaicked into ${size(os.state)} px (the export's: ${size(of.state)})`);
+    const po = os.state.progress.orthophoto;
+    check(po && po.done && po.tiles === o.tiles && po.of === o.tiles && po.failed === 0 &&
+          os.state.sources.includes(`orthophoto ${o.tiles} of ${o.tiles} tiles, ${o.width}×${o.height} px`),
+          `services-orthophoto: hv.progress.orthophoto and the panel: ${po ? po.tiles : 0} of ${po ? po.of : 0} tiles`);
     check(os.requests.some((u) => /REQUEST=GetCapabilities/.test(u)) && os.requests.some((u) => /\/mapcache\/wmts\/1\.0\.0\/|REQUEST=GetTile/.test(u)),
           'services-orthophoto: the page asked the WMTS for its capabilities and tiles');
     check(!os.requests.some((u) => /orthophoto\.rgba/.test(u)) && of.requests.some((u) => /orthophoto\.rgba/.test(u)),

@@ -42,7 +42,9 @@ async function open(url, name, errorsExpected) {
   await page.goto(url);
   await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.some((e) => !/left out\)$/.test(e))),
                              null, { timeout: 120000, polling: 250 });
-  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, services: hv.services || null }));
+  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, services: hv.services || null,
+                                             missing: hv.missing, progress: hv.progress,
+                                             sources: document.getElementById('sources').textContent }));
   console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s` + (state.errors.length ? ': ' + state.errors.join(' | ') : ''));
   check(state.loaded, `${name}: the page reports loading complete`);
   if (!errorsExpected)
@@ -117,6 +119,17 @@ try {
     check(e.some((m) => /services-missing\.json: cameras: http:\/\/[^ ]*\/files\/no-such-cameras\.json: HTTP 404[\s\S]*\(cameras left out\)$/.test(m)),
           'missing: the cameras named with the description, the field and the URL');
     check((missing.state.services || {}).features === BUILDINGS, 'missing: the buildings still read');
+    // hv.missing (web/services_progress.js): each by the description's path, as natively.
+    const mm = missing.state.missing;
+    console.log('missing: ' + missing.state.sources.replace(/\n/g, ' | '));
+    check(mm.length === 2 && mm[0].kind === 'terrain' && /^WCS:http:\/\/[^ ]*\/files\/no-such-wcs\?/.test(mm[0].location) &&
+          /HTTP 404/.test(mm[0].reason) && mm[1].kind === 'cameras' && /^http:\/\/[^ ]*\/files\/no-such-cameras\.json$/.test(mm[1].location) &&
+          /HTTP 404/.test(mm[1].reason),
+          'missing: hv.missing: the terrain and the cameras, each by its URL, and why');
+    check(missing.state.sources.includes(`missing: terrain (${mm[0] && mm[0].location}), cameras (${mm[1] && mm[1].location})`) &&
+          missing.state.sources.includes('  terrain: ' + (mm[0] && mm[0].location) + ': ') &&
+          missing.state.progress.terrain.text === 'left out' && missing.state.progress.buildings.features === BUILDINGS,
+          'missing: the panel lists them; hv.progress: the terrain left out, the buildings read');
   }
 } catch (e) {
   check(false, 'the test ran: ' + (e && e.stack ? e.stack : e));

@@ -35,7 +35,9 @@ async function open(url, name) {
   const t0 = Date.now();
   await page.goto(url);
   await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.length > 0), null, { timeout: 90000, polling: 250 });
-  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, status: hv.status, services: hv.services || null }));
+  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, status: hv.status, services: hv.services || null,
+                                             progress: hv.progress, missing: hv.missing,
+                                             sources: document.getElementById('sources').textContent }));
   console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
   check(state.loaded, `${name}: the page reports loading complete`);
   check(state.errors.length === 0 && errors.length === 0, `${name}: no page errors` +
@@ -63,6 +65,20 @@ try {
   const s = services.state.services;
   check(s && s.features === BUILDINGS && s.featurePages >= 1,
         `services: ${s ? s.features : 0} footprints from the WFS in ${s ? s.featurePages : 0} page(s) (${BUILDINGS} expected)`);
+  // The progress per source (web/services_progress.js): the totals read, and the panel's line.
+  const pr = services.state.progress, photos = services.state.status.photos;
+  console.log('services: ' + services.state.sources);
+  check(pr.buildings && pr.buildings.done && pr.buildings.features === BUILDINGS && pr.buildings.pages === s.featurePages,
+        `services: hv.progress.buildings: ${pr.buildings ? pr.buildings.features : 0} features in ${pr.buildings ? pr.buildings.pages : 0} page(s)`);
+  check(pr.terrain && pr.terrain.done && pr.terrain.cols > 1 && pr.terrain.rows > 1, 'services: hv.progress.terrain: the WCS grid\'s size');
+  check(pr.photographs && pr.photographs.done && pr.photographs.full === photos && pr.photographs.of === photos && photos === 12,
+        `services: hv.progress.photographs: ${pr.photographs ? pr.photographs.full : 0} of ${photos} (12 expected)`);
+  check(services.state.sources.startsWith('sources: ') && !services.state.sources.includes('\n') &&
+        services.state.sources.includes(`buildings WFS page ${s.featurePages}, ${BUILDINGS} features`) &&
+        services.state.sources.includes(`terrain WCS grid ${pr.terrain.cols}×${pr.terrain.rows}`) &&
+        services.state.sources.includes(`photographs ${photos} of ${photos}`),
+        'services: the panel\'s one line once loaded names the features, the grid and the photographs');
+  check(services.state.missing.length === 0 && files.state.missing.length === 0, 'services, files: nothing missing');
   check(!services.requests.some((u) => /buildings\.bin/.test(u)) && files.requests.some((u) => /buildings\.bin/.test(u)),
         "services: the export's buildings mesh was not fetched (the files page fetched it)");
   check(services.requests.some((u) => /REQUEST=GetFeature/.test(u)) && services.requests.some((u) => /REQUEST=GetCoverage/.test(u)),
@@ -83,7 +99,11 @@ try {
     await page.goto(oapifUrl);
     await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.length > 0), null, { timeout: 60000, polling: 250 });
     const errors = await page.evaluate(() => hv.errors);
+    const missing = await page.evaluate(() => hv.missing);
     console.log('oapif: ' + errors.join(' | '));
+    check(missing.length === 1 && missing[0].kind === 'buildings' && /^OAPIF:http:.*\/collections\/buildings$/.test(missing[0].location) &&
+          /did not answer in EPSG:2154/.test(missing[0].reason),
+          'oapif: hv.missing: the buildings, by the description\'s path, and why');
     check(errors.some((e) => /\/collections\/buildings\/items\?.*: the service did not answer in EPSG:2154 \(Content-Crs: none, i\.e\. CRS84\)/.test(e)),
           'oapif: features in CRS84 refused, naming the URL (the browser does not reproject)');
     await page.close();

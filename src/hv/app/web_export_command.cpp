@@ -125,7 +125,7 @@ int runWebExport(const WebExportOptions& o) {
   const fs::path wasmDir = o.wasmDir.empty() ? source / "build-web" / "dist" : fs::path(o.wasmDir);
   const int page = copyPageFiles(pageDir, out,
                                  {"index.html", "histoview.js", "services.js", "services_cameras.js",
-                                  "services_layers.js", "services_frame.js", "histoview.css", "map.js", "pose.js"});
+                                  "services_layers.js", "services_frame.js", "services_progress.js", "histoview.css", "map.js", "pose.js"});
   const int wasm = copyPageFiles(wasmDir, out, {"histoview_web.js", "histoview_web.wasm", "proj4.js"});
 
   size_t triangles = scene.terrain.triangles.size() + scene.buildings.triangles.size() + scene.mesh.triangles.size();
