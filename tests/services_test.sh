@@ -98,6 +98,9 @@ expect_out info-wfs "buildings +[1-9][0-9]* triangles"
 expect_out info-wfs "terrain +[1-9][0-9]* vertices"
 # What OGR asked the WFS: paged GetFeature requests with a bounding-box filter (one per tile).
 state=$(sed -n 's/.*(state: \(.*\))$/\1/p' "$DIR/up.out")
+# lighttpd buffers its access log: SIGHUP makes it write what it holds (and reopen the file).
+kill -HUP "$(cat "$state/lighttpd.pid")" 2>/dev/null
+sleep 0.5
 check "WFS GetFeature is paged (STARTINDEX, COUNT)" grep -q "REQUEST=GetFeature.*STARTINDEX=0&COUNT=" "$state/access.log"
 check "cameras read from the WFS" grep -qiE "REQUEST=GetFeature.*TYPENAMES?=ms(:|%3A)cameras" "$state/access.log"
 check "WFS GetFeature carries a BBOX filter" grep -q "REQUEST=GetFeature.*FILTER=.*BBOX" "$state/access.log"
