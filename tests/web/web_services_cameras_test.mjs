@@ -22,63 +22,20 @@
 // and say the preview is shown.
 // Each page's hv.progress (web/services_progress.js) counts what was read (cameras, previews, full
 // images), and hv.missing and the status panel name what was not, by kind and URL.
-import { chromium } from 'playwright-core';
-import fs from 'node:fs';
-import path from 'node:path';
+import { DEMO_BUILDINGS as BUILDINGS, canvasRgba, checker, expectSamePicture, launchBrowser, openPage, psnr as psnrOf }
+  from './services_page.mjs';
 
 const args = {};
 for (let i = 2; i < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
 const photos = +args.photos;
-const flags = ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-  '--ignore-gpu-blocklist', '--disable-quic', '--no-first-run', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync'];
-const BUILDINGS = 8;  // the demo city's (tests/web_services_test.sh: --buildings 8)
 
-let passed = 0, failed = 0;
-const check = (ok, what) => { if (ok) { passed++; console.log('ok    ' + what); } else { failed++; console.log('FAIL  ' + what); } };
-
-const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: flags });
-// Opens `url`, waits for the page to report loading complete (or, with untilError, for an error
-// too), and returns its state, its requests and its canvas's RGBA.
-async function open(url, name, { expectErrors = false } = {}) {
-  const page = await browser.newPage({ viewport: { width: 1000, height: 560 } });
-  const errors = [], requests = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); if (process.env.HV_WEB_VERBOSE) console.log(name + ': ' + m.text()); });
-  page.on('request', (r) => requests.push(r.url()));
-  const t0 = Date.now();
-  await page.goto(url);
-  await page.waitForFunction(() => window.hv && (window.hv.loaded || (!window.hv.viewer && window.hv.errors.length > 0)),
-                             null, { timeout: 120000, polling: 250 });
-  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, status: hv.status, services: hv.services || null,
-                                             photoBytes: hv.photoBytes || null, text: document.getElementById('status').textContent,
-                                             progress: hv.progress, missing: hv.missing,
-                                             sources: document.getElementById('sources').textContent }));
-  console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
-  check(state.loaded, `${name}: the page reports loading complete`);
-  if (!expectErrors)
-    check(state.errors.length === 0 && errors.length === 0, `${name}: no page errors` +
-          (state.errors.length + errors.length ? ': ' + [...state.errors, ...errors].join(' | ') : ''));
-  const shot = await shoot(page, name);
-  await page.close();
-  return { state, requests, errors: [...state.errors, ...errors], rgba: shot.rgba };
-}
+const tally = checker(), check = tally.check;
+const browser = await launchBrowser();
+// Loaded, or (with expectErrors) an error that left the page without a viewer.
+const open = (url, name, { expectErrors = false } = {}) =>
+  openPage(browser, tally, url, name, { outDir: args.out, until: 'load-failed', errorsExpected: expectErrors });
 // The canvas's RGBA (and web-NAME.png in --out).
-async function shoot(page, name) {
-  const shot = await page.evaluate(() => {
-    const canvas = document.getElementById('view');
-    const c = document.createElement('canvas');
-    c.width = canvas.width; c.height = canvas.height;
-    const g = c.getContext('2d');
-    g.drawImage(canvas, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    let bytes = '';
-    for (let i = 0; i < d.length; ++i) bytes += String.fromCharCode(d[i]);
-    return { rgba: btoa(bytes), png: canvas.toDataURL('image/png') };
-  });
-  fs.writeFileSync(path.join(args.out, `web-${name}.png`), Buffer.from(shot.png.split(',')[1], 'base64'));
-  return { rgba: Buffer.from(shot.rgba, 'base64') };
-}
+const shoot = async (page, name) => ({ rgba: await canvasRgba(page, args.out, name) });
 // The IIIF page with its image requests held back (the services stay real; Playwright only delays
 // the page's requests): every image at first (the frame with no photograph), then the previews
 // (each photograph's first image request) while the full images stay held (the frame textured by
@@ -120,26 +77,8 @@ async function openStaged(url, name) {
   await page.close();
   return { none, previews, converged, previewState, finalState, fullsHeld, fullAsked, errors: [...finalState.errors, ...errors] };
 }
-// PSNR over RGB (Infinity: identical).
-function psnr(a, b) {
-  let se = 0, n = 0;
-  for (let i = 0; i < a.rgba.length; i += 4)
-    for (let c = 0; c < 3; ++c) { const d = a.rgba[i + c] - b.rgba[i + c]; se += d * d; n++; }
-  return se === 0 ? Infinity : 10 * Math.log10(255 * 255 / (se / n));
-}
-// PSNR over RGB (Infinity: identical), and how many pixels differ.
-function compare(a, b, what, minDb) {
-  let se = 0, n = 0, differ = 0;
-  for (let i = 0; i < a.rgba.length; i += 4) {
-    let d2 = 0;
-    for (let c = 0; c < 3; ++c) { const d = a.rgba[i + c] - b.rgba[i + c]; d2 += d * d; n++; }
-    se += d2;
-    if (d2) differ++;
-  }
-  const psnr = se === 0 ? Infinity : 10 * Math.log10(255 * 255 / (se / n));
-  console.log(`${what}: PSNR ${psnr === Infinity ? 'inf (identical)' : psnr.toFixed(2) + ' dB'}, ${differ} of ${a.rgba.length / 4} pixels differ`);
-  check(a.rgba.length === b.rgba.length && psnr >= minDb, `${what}: identical or >= ${minDb} dB`);
-}
+const psnr = (a, b) => psnrOf(a.rgba, b.rgba).db;
+const compare = (a, b, what, minDb) => expectSamePicture(tally, a.rgba, b.rgba, what, minDb);
 
 try {
   const files = await open(args.files, 'files');
@@ -247,5 +186,4 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+tally.finish();

@@ -10,69 +10,17 @@
 // ORTHO_FILES_URL: an export whose orthophoto was read natively from the WMTS; ORTHO_URL: the same
 // view with the page reading the WMTS itself (capabilities, GetTile, its own mosaic): identical or
 // within MIN_PSNR; ORTHO_OFF_URL: the latter with the orthophoto off, which must differ.
-import { chromium } from 'playwright-core';
-import fs from 'node:fs';
-import path from 'node:path';
+import { checker, launchBrowser, openPage, psnr, shownPsnr as shown } from './services_page.mjs';
 
 const [outDir, filesUrl, pointsUrl, points404Url, pointsBadUrl, orthoFilesUrl, orthoUrl, orthoOffUrl] = process.argv.slice(2);
-const flags = ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-  '--ignore-gpu-blocklist', '--disable-quic', '--no-first-run', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync'];
 // The points went through EPSG:4978, 16-bit quantization per tile and the export's fit back
 // (hv/scene/geocentric_fit.h), and 8-bit colour: a bound, not equality.
 const MIN_PSNR = 45.0;
 
-let passed = 0, failed = 0;
-const check = (ok, what) => { if (ok) { passed++; console.log('ok    ' + what); } else { failed++; console.log('FAIL  ' + what); } };
-
-const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: flags });
-// Opens `url`, waits until the page reports loading complete (or, when `errorsExpected`, at least
-// until an error shows and loading completes), and returns its state, requests and pixels.
-async function open(url, name, errorsExpected) {
-  const page = await browser.newPage({ viewport: { width: 1000, height: 560 } });
-  const errors = [], requests = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); if (process.env.HV_WEB_VERBOSE) console.log(name + ': ' + m.text()); });
-  page.on('request', (r) => requests.push(r.url()));
-  const t0 = Date.now();
-  await page.goto(url);
-  // Loaded, or an error other than a layer left out (those leave the rest loading).
-  await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.some((e) => !/left out\)$/.test(e))),
-                             null, { timeout: 120000, polling: 250 });
-  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, services: hv.services || null,
-                                             status: hv.status, progress: hv.progress, missing: hv.missing,
-                                             sources: document.getElementById('sources').textContent }));
-  console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s` + (state.errors.length ? ': ' + state.errors.join(' | ') : ''));
-  check(state.loaded, `${name}: the page reports loading complete`);
-  if (!errorsExpected)
-    check(state.errors.length === 0 && errors.length === 0, `${name}: no page errors` +
-          (state.errors.length + errors.length ? ': ' + [...state.errors, ...errors].join(' | ') : ''));
-  const shot = await page.evaluate(() => {
-    const canvas = document.getElementById('view');
-    const c = document.createElement('canvas');
-    c.width = canvas.width; c.height = canvas.height;
-    const g = c.getContext('2d');
-    g.drawImage(canvas, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    let bytes = '';
-    for (let i = 0; i < d.length; ++i) bytes += String.fromCharCode(d[i]);
-    return { rgba: btoa(bytes), png: canvas.toDataURL('image/png') };
-  });
-  fs.writeFileSync(path.join(outDir, `web-${name}.png`), Buffer.from(shot.png.split(',')[1], 'base64'));
-  await page.close();
-  return { state, requests, rgba: Buffer.from(shot.rgba, 'base64') };
-}
-function psnr(a, b) {
-  let se = 0, n = 0, differ = 0;
-  for (let i = 0; i < a.length; i += 4) {
-    let d2 = 0;
-    for (let c = 0; c < 3; ++c) { const d = a[i + c] - b[i + c]; d2 += d * d; n++; }
-    se += d2;
-    if (d2) differ++;
-  }
-  return { db: se === 0 ? Infinity : 10 * Math.log10(255 * 255 / (se / n)), differ, pixels: a.length / 4 };
-}
-const shown = (p) => (p.db === Infinity ? 'inf (identical)' : p.db.toFixed(2) + ' dB') + `, ${p.differ} of ${p.pixels} pixels differ`;
+const tally = checker(), check = tally.check;
+const browser = await launchBrowser();
+// Loaded, or an error other than a layer left out (those leave the rest loading).
+const open = (url, name, errorsExpected) => openPage(browser, tally, url, name, { outDir, until: 'fatal-error', errorsExpected });
 
 try {
   const files = await open(filesUrl, 'files-points', false);
@@ -160,5 +108,4 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+tally.finish();

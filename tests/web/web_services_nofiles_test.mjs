@@ -15,68 +15,17 @@
 // both with the points of the 3D Tiles tileset: identical or >= MIN_PSNR. MISSING_URL: the
 // terrain's WCS and the cameras file answer 404: each named (the description, the field, the
 // URL), the buildings still read and the page completes.
-import { chromium } from 'playwright-core';
-import fs from 'node:fs';
-import path from 'node:path';
+import { DEMO_BUILDINGS as BUILDINGS, checker, expectSamePicture, launchBrowser, openPage } from './services_page.mjs';
 
 const [outDir, filesUrl, nofilesUrl, pfilesUrl, pnofilesUrl, missingUrl] = process.argv.slice(2);
-const flags = ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-  '--ignore-gpu-blocklist', '--disable-quic', '--no-first-run', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync'];
 const MIN_PSNR = 45.0, MIN_PSNR_NO_POINTS = 30.0;
-const BUILDINGS = 8;  // the demo city's (tests/web_services_test.sh: --buildings 8)
 // The page's own files, served from the export's folder like any page; anything else there is the export's.
 const PAGE_FILES = /\/(index\.html|[a-z0-9_]+\.js|histoview\.css|histoview_web\.wasm)(\?|$)/;
 
-let passed = 0, failed = 0;
-const check = (ok, what) => { if (ok) { passed++; console.log('ok    ' + what); } else { failed++; console.log('FAIL  ' + what); } };
-
-const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: flags });
-async function open(url, name, errorsExpected) {
-  const page = await browser.newPage({ viewport: { width: 1000, height: 560 } });
-  const errors = [], requests = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); if (process.env.HV_WEB_VERBOSE) console.log(name + ': ' + m.text()); });
-  page.on('request', (r) => requests.push(r.url()));
-  const t0 = Date.now();
-  await page.goto(url);
-  await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.some((e) => !/left out\)$/.test(e))),
-                             null, { timeout: 120000, polling: 250 });
-  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, services: hv.services || null,
-                                             missing: hv.missing, progress: hv.progress,
-                                             sources: document.getElementById('sources').textContent }));
-  console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s` + (state.errors.length ? ': ' + state.errors.join(' | ') : ''));
-  check(state.loaded, `${name}: the page reports loading complete`);
-  if (!errorsExpected)
-    check(state.errors.length === 0 && errors.length === 0, `${name}: no page errors` +
-          (state.errors.length + errors.length ? ': ' + [...state.errors, ...errors].join(' | ') : ''));
-  const shot = await page.evaluate(() => {
-    const canvas = document.getElementById('view');
-    const c = document.createElement('canvas');
-    c.width = canvas.width; c.height = canvas.height;
-    const g = c.getContext('2d');
-    g.drawImage(canvas, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    let bytes = '';
-    for (let i = 0; i < d.length; ++i) bytes += String.fromCharCode(d[i]);
-    return { rgba: btoa(bytes), png: canvas.toDataURL('image/png') };
-  });
-  fs.writeFileSync(path.join(outDir, `web-${name}.png`), Buffer.from(shot.png.split(',')[1], 'base64'));
-  await page.close();
-  return { state, requests, rgba: Buffer.from(shot.rgba, 'base64') };
-}
-function compare(a, b, what, min = MIN_PSNR) {
-  let se = 0, n = 0, differ = 0;
-  for (let i = 0; i < a.rgba.length; i += 4) {
-    let d2 = 0;
-    for (let c = 0; c < 3; ++c) { const d = a.rgba[i + c] - b.rgba[i + c]; d2 += d * d; n++; }
-    se += d2;
-    if (d2) differ++;
-  }
-  const psnr = se === 0 ? Infinity : 10 * Math.log10(255 * 255 / (se / n));
-  console.log(`${what}: PSNR ${psnr === Infinity ? 'inf (identical)' : psnr.toFixed(2) + ' dB'}, ${differ} of ${a.rgba.length / 4} pixels differ`);
-  check(a.rgba.length === b.rgba.length && psnr >= min, `${what}: identical or >= ${min} dB`);
-}
+const tally = checker(), check = tally.check;
+const browser = await launchBrowser();
+const open = (url, name, errorsExpected) => openPage(browser, tally, url, name, { outDir, until: 'fatal-error', errorsExpected });
+const compare = (a, b, what, min = MIN_PSNR) => expectSamePicture(tally, a.rgba, b.rgba, what, min);
 // The export's folder is the page's; a request there that is not the page itself is an export file.
 function exportFetches(r, pageUrl) {
   const dir = new URL('.', pageUrl).href;
@@ -136,5 +85,4 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+tally.finish();

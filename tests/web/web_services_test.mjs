@@ -8,56 +8,17 @@
 // or PSNR >= 45 dB over RGB. Writes web-files.png and web-services.png into OUTDIR. OAPIF_URL: a
 // description whose buildings come from MapServer's OGC API – Features, which serves CRS84 only:
 // the page must refuse it, naming the URL, rather than place the buildings wrong.
-import { chromium } from 'playwright-core';
-import fs from 'node:fs';
-import path from 'node:path';
+import { DEMO_BUILDINGS as BUILDINGS, checker, expectSamePicture, launchBrowser, openPage } from './services_page.mjs';
 
 const [filesUrl, servicesUrl, outDir, oapifUrl] = process.argv.slice(2);
-const flags = ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-  '--ignore-gpu-blocklist', '--disable-quic', '--no-first-run', '--disable-background-networking',
-  '--disable-component-update', '--disable-sync'];
 // The same renderer, cameras, photographs and terrain; the buildings' footprints went through
 // MapServer's GeoJSON (coordinates to 1 µm) and their roofs are triangulated by ear clipping rather
 // than GEOS: the pictures may differ in the last bits at a few pixels, hence a bound, not equality.
 const MIN_PSNR = 45.0;
-const BUILDINGS = 8;  // the demo city's (tests/web_services_test.sh: --buildings 8)
 
-let passed = 0, failed = 0;
-const check = (ok, what) => { if (ok) { passed++; console.log('ok    ' + what); } else { failed++; console.log('FAIL  ' + what); } };
-
-const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: flags });
-async function open(url, name) {
-  const page = await browser.newPage({ viewport: { width: 1000, height: 560 } });
-  const errors = [], requests = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); if (process.env.HV_WEB_VERBOSE) console.log(name + ': ' + m.text()); });
-  page.on('request', (r) => requests.push(r.url()));
-  const t0 = Date.now();
-  await page.goto(url);
-  await page.waitForFunction(() => window.hv && (window.hv.loaded || window.hv.errors.length > 0), null, { timeout: 90000, polling: 250 });
-  const state = await page.evaluate(() => ({ loaded: hv.loaded, errors: hv.errors, status: hv.status, services: hv.services || null,
-                                             progress: hv.progress, missing: hv.missing,
-                                             sources: document.getElementById('sources').textContent }));
-  console.log(`${name}: loaded in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
-  check(state.loaded, `${name}: the page reports loading complete`);
-  check(state.errors.length === 0 && errors.length === 0, `${name}: no page errors` +
-        (state.errors.length + errors.length ? ': ' + [...state.errors, ...errors].join(' | ') : ''));
-  // The canvas's pixels (its drawing buffer is preserved) and a PNG of it.
-  const shot = await page.evaluate(() => {
-    const canvas = document.getElementById('view');
-    const c = document.createElement('canvas');
-    c.width = canvas.width; c.height = canvas.height;
-    const g = c.getContext('2d');
-    g.drawImage(canvas, 0, 0);
-    const d = g.getImageData(0, 0, c.width, c.height).data;
-    let bytes = '';
-    for (let i = 0; i < d.length; ++i) bytes += String.fromCharCode(d[i]);
-    return { rgba: btoa(bytes), png: canvas.toDataURL('image/png') };
-  });
-  fs.writeFileSync(path.join(outDir, `web-${name}.png`), Buffer.from(shot.png.split(',')[1], 'base64'));
-  await page.close();
-  return { state, requests, rgba: Buffer.from(shot.rgba, 'base64') };
-}
+const tally = checker(), check = tally.check;
+const browser = await launchBrowser();
+const open = (url, name) => openPage(browser, tally, url, name, { outDir });
 
 try {
   const files = await open(filesUrl, 'files');
@@ -83,17 +44,7 @@ try {
         "services: the export's buildings mesh was not fetched (the files page fetched it)");
   check(services.requests.some((u) => /REQUEST=GetFeature/.test(u)) && services.requests.some((u) => /REQUEST=GetCoverage/.test(u)),
         'services: the page asked the WFS and the WCS itself');
-  let se = 0, n = 0, differ = 0;
-  for (let i = 0; i < files.rgba.length; i += 4) {
-    let d2 = 0;
-    for (let c = 0; c < 3; ++c) { const d = files.rgba[i + c] - services.rgba[i + c]; d2 += d * d; n++; }
-    se += d2;
-    if (d2) differ++;
-  }
-  const psnr = se === 0 ? Infinity : 10 * Math.log10(255 * 255 / (se / n));
-  console.log(`services vs files: PSNR ${psnr === Infinity ? 'inf (identical)' : psnr.toFixed(2) + ' dB'}, ${differ} of ${files.rgba.length / 4} pixels differ`);
-  check(files.rgba.length === services.rgba.length && psnr >= MIN_PSNR,
-        `the service scene renders the file scene's picture (identical or >= ${MIN_PSNR} dB)`);
+  expectSamePicture(tally, files.rgba, services.rgba, 'the service scene renders the file scene\'s picture (services vs files)', MIN_PSNR);
   if (oapifUrl) {
     const page = await browser.newPage();
     await page.goto(oapifUrl);
@@ -113,5 +64,4 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+tally.finish();
